@@ -1,0 +1,31 @@
+# blurloc: setup, reproduce, test. Each target is idempotent and runs setup itself.
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+QUICK ?= 0
+
+.PHONY: setup reproduce test lint clean
+
+setup: $(STAMP)
+
+$(STAMP): requirements.txt pyproject.toml
+	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -r requirements.txt
+	touch $(STAMP)
+
+## Run every notebook in order with papermill into build/ (figures into figures/). QUICK=1: small sizes.
+reproduce: setup
+	$(BIN)/blurloc run-notebooks $(if $(filter 1 true yes,$(QUICK)),--quick,)
+
+test: setup
+	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/python -m pytest -q
+
+lint: setup
+	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/ruff format --check src tests benchmarks
+
+clean:
+	rm -rf build results data/standin-quick

@@ -1,0 +1,37 @@
+"""Paths anchored on the package file, and the one seeding helper."""
+
+from __future__ import annotations
+
+import os
+import random
+from pathlib import Path
+
+import numpy as np
+import torch
+
+PACKAGE_DIR = Path(__file__).resolve().parent
+REPO_ROOT = PACKAGE_DIR.parent.parent
+NOTEBOOKS_DIR = REPO_ROOT / "notebooks"
+DATA_DIR = REPO_ROOT / "data"
+RESULTS_DIR = REPO_ROOT / "results"
+FIGURES_DIR = REPO_ROOT / "figures"
+BUILD_DIR = REPO_ROOT / "build"
+
+DEFAULT_SEED = 0
+
+
+def default_data_root(quick: bool = False) -> Path:
+    """Where the synthetic stand-in lives: ``data/standin`` (or ``data/standin-quick``)."""
+    return DATA_DIR / ("standin-quick" if quick else "standin")
+
+
+def resolve_dir(path: str | os.PathLike | None, default: Path) -> Path:
+    """``path`` as a Path, or ``default`` when it is None or empty (notebook parameters)."""
+    return Path(path) if path else default
+
+
+def seed_everything(seed: int) -> None:
+    """Seed Python, NumPy and torch so that the same seed gives the same numbers on CPU."""
+    random.seed(seed)
+    np.random.seed(seed)  # noqa: NPY002 (the global generator, for code that still uses it)
+    torch.manual_seed(seed)
