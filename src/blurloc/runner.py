@@ -1,0 +1,110 @@
+"""Run the notebooks in order with papermill, headless, and log the time each takes."""
+
+from __future__ import annotations
+
+import csv
+import os
+import sys
+import time
+from pathlib import Path
+
+from .config import (
+    BUILD_DIR,
+    DEFAULT_SEED,
+    FIGURES_DIR,
+    NOTEBOOKS_DIR,
+    RESULTS_DIR,
+    default_data_root,
+)
+
+#: Figure and table files (under ``figures_dir``) that each notebook promises to write.
+EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
+    "00_synthetic_scenes": (
+        "standin_scenes.png",
+        "standin_scenes.pdf",
+        "standin_exposure.png",
+        "standin_exposure.pdf",
+        "standin_trajectories.png",
+        "standin_trajectories.pdf",
+        "standin_pairs.png",
+        "standin_pairs.pdf",
+        "standin_blur_histogram.png",
+        "standin_blur_histogram.pdf",
+        "standin_motion_stats.md",
+        "standin_motion_stats.csv",
+    ),
+}
+
+
+def notebook_names() -> list[str]:
+    """Names (without .ipynb) of the notebooks in ``notebooks/``, in run order."""
+    return sorted(path.stem for path in NOTEBOOKS_DIR.glob("[0-9][0-9]_*.ipynb"))
+
+
+def default_parameters(quick: bool) -> dict:
+    """The parameters ``make reproduce`` passes: quick runs stay out of figures/ and results/."""
+    if quick:
+        return {
+            "quick": True,
+            "seed": DEFAULT_SEED,
+            "data_root": str(default_data_root(quick=True)),
+            "results_dir": str(BUILD_DIR / "quick" / "results"),
+            "figures_dir": str(BUILD_DIR / "quick" / "figures"),
+            "device": "auto",
+        }
+    return {
+        "quick": False,
+        "seed": DEFAULT_SEED,
+        "data_root": str(default_data_root(quick=False)),
+        "results_dir": str(RESULTS_DIR),
+        "figures_dir": str(FIGURES_DIR),
+        "device": "auto",
+    }
+
+
+def run_notebooks(
+    quick: bool = False,
+    names: list[str] | None = None,
+    parameters: dict | None = None,
+    output_dir: str | os.PathLike | None = None,
+    cell_timeout_s: int | None = None,
+    log_output: bool = False,
+) -> list[tuple]:
+    """Execute notebooks in order with papermill (kernel ``python3``).
+
+    Executed copies go to ``output_dir`` (default ``build/`` or ``build/quick``); the time per
+    notebook is printed and written to ``timings.csv`` there. Returns (name, seconds) rows.
+    """
+    import papermill
+
+    available = notebook_names()
+    names = names or available
+    unknown = sorted(set(names) - set(available))
+    if unknown:
+        raise ValueError(f"unknown notebook(s) {unknown}; available: {available}")
+    params = {**default_parameters(quick), **(parameters or {})}
+    output_dir = Path(output_dir or (BUILD_DIR / "quick" if quick else BUILD_DIR))
+    output_dir.mkdir(parents=True, exist_ok=True)
+    # The python3 kernel must be this interpreter (the one with blurloc installed).
+    os.environ["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), os.environ["PATH"]])
+    timings = []
+    for name in names:
+        start = time.perf_counter()
+        papermill.execute_notebook(
+            str(NOTEBOOKS_DIR / f"{name}.ipynb"),
+            str(output_dir / f"{name}.ipynb"),
+            parameters=params,
+            kernel_name="python3",
+            cwd=str(NOTEBOOKS_DIR),
+            execution_timeout=cell_timeout_s,
+            log_output=log_output,
+            progress_bar=False,
+        )
+        seconds = time.perf_counter() - start
+        timings.append((name, round(seconds, 1)))
+        print(f"{name}: {seconds:.1f} s", flush=True)
+    with open(output_dir / "timings.csv", "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["notebook", "seconds"])
+        writer.writerows(timings)
+    return timings

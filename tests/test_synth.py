@@ -1,0 +1,235 @@
+"""The stand-in renderer: projection, exposure integration, blur metadata, rigid poses,
+motion statistics and determinism."""
+
+from __future__ import annotations
+
+import filecmp
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from blurloc.data import check_data, load_split
+from blurloc.data.render import Light, Quad, Scene, render
+from blurloc.data.scenes import SCENE_NAMES, make_scene
+from blurloc.data.synth import (
+    HandheldTrajectory,
+    SynthConfig,
+    render_exposure,
+    synthesize,
+)
+from blurloc.geometry import (
+    frame_to_frame_motion,
+    intrinsics,
+    look_at,
+    make_pose,
+    orthonormality_error,
+    project,
+)
+
+WIDTH, HEIGHT = 160, 120
+
+
+def wall_scene(marker_center: tuple[float, float, float] | None = None) -> Scene:
+    """A textured wall at y = 3 m facing the origin, optionally with a small white marker."""
+    quads = [
+        Quad(
+            (-4.0, 3.0, 3.0),
+            (8.0, 0.0, 0.0),
+            (0.0, 0.0, -6.0),
+            "brick",
+            (8.0, 6.0),
+            (0.3, 0.3, 0.3),
+        )
+    ]
+    if marker_center is not None:
+        x, y, z = marker_center
+        quads.append(
+            Quad(
+                (x - 0.04, y - 0.01, z + 0.04),
+                (0.08, 0.0, 0.0),
+                (0.0, 0.0, -0.08),
+                "moon",
+                (1.0, 1.0),
+                (40.0, 0.0, 0.0),
+            )
+        )  # bright red
+    return Scene(
+        "wall", tuple(quads), (Light((0.0, 0.0, 1.0), 4.0),), (0.0, 0.0, 0.0), (0.0, 3.0, 0.0)
+    )
+
+
+class LinearTrajectory:
+    """Constant-velocity translation with a fixed orientation looking along +y."""
+
+    def __init__(self, velocity: tuple[float, float, float]) -> None:
+        self.velocity = np.asarray(velocity, float)
+        self.rotation = look_at((0, 0, 0), (0, 1, 0))
+
+    def poses(self, times: np.ndarray) -> np.ndarray:
+        times = np.atleast_1d(np.asarray(times, float))
+        return make_pose(
+            np.repeat(self.rotation[None], times.size, 0), times[:, None] * self.velocity
+        )
+
+
+def test_intrinsics_are_the_7scenes_ones_scaled() -> None:
+    np.testing.assert_allclose(intrinsics(640, 480), [[585, 0, 320], [0, 585, 240], [0, 0, 1]])
+    camera = intrinsics(WIDTH, HEIGHT)
+    assert camera[0, 0] == pytest.approx(585 / 4)
+    assert camera[0, 2] == pytest.approx((320.5 / 4) - 0.5)
+
+
+def test_known_point_projects_to_expected_pixel() -> None:
+    point = (0.3, 2.99, -0.2)  # right of and below the optical axis, 2.99 m ahead
+    camera = intrinsics(WIDTH, HEIGHT)
+    pose = make_pose(look_at((0, 0, 0), (0, 1, 0)), (0, 0, 0))
+    # by hand: camera x = world x, camera y = -world z, depth = world y
+    expected = (camera[0, 0] * 0.3 / 2.99 + camera[0, 2], camera[1, 1] * 0.2 / 2.99 + camera[1, 2])
+    np.testing.assert_allclose(project(np.array([point]), pose, camera)[0, :2], expected)
+    image, depth = render(wall_scene(point), pose, camera, WIDTH, HEIGHT)
+    red = image[..., 0] > 3 * image[..., 1] + 0.05
+    rows, cols = np.nonzero(red)
+    assert 4 <= rows.size <= 40  # an 8 cm marker at 3 m is about 4x4 px
+    assert cols.mean() == pytest.approx(expected[0], abs=0.5)
+    assert rows.mean() == pytest.approx(expected[1], abs=0.5)
+    assert depth[HEIGHT // 2, WIDTH // 2] == pytest.approx(3.0, abs=1e-4)
+
+
+def test_no_motion_gives_the_sharp_frame() -> None:
+    config = SynthConfig(blur_strength=2.0)
+    still = LinearTrajectory((0.0, 0.0, 0.0))
+    blurred, sharp, _, blur = render_exposure(
+        wall_scene(), still, 0.0, config, intrinsics(WIDTH, HEIGHT)
+    )
+    assert blur.mean_px == 0 and blur.max_px == 0
+    np.testing.assert_array_equal(blurred, sharp)
+
+
+def test_no_exposure_and_no_noise_stores_the_sharp_frame(tmp_path: Path) -> None:
+    config = SynthConfig.quick(blur_strength=0.0, noise_sigma=0.0, frames_per_sequence=3)
+    synthesize(tmp_path, scenes=["heads"], config=config, workers=1, progress=False)
+    sequence = load_split(tmp_path, "heads", "test")[0]
+    for frame in sequence.frame_ids:
+        assert filecmp.cmp(
+            sequence.path(frame, "color"), sequence.path(frame, "sharp"), shallow=False
+        )
+
+
+@pytest.mark.parametrize(("velocity", "angle"), [((0.6, 0, 0), 0.0), ((0, 0, 0.6), 90.0)])
+def test_blur_metadata_agrees_with_the_motion(velocity: tuple, angle: float) -> None:
+    """Translating parallel to a wall 3 m away: every point moves fx * v * E / Z pixels."""
+    config = SynthConfig(blur_strength=2.0)
+    camera = intrinsics(WIDTH, HEIGHT)
+    trajectory = LinearTrajectory(velocity)
+    blurred, sharp, _, blur = render_exposure(wall_scene(), trajectory, 0.0, config, camera)
+    exposure = config.blur_strength / config.fps
+    expected = camera[0, 0] * 0.6 * exposure / 3.0  # 5.85 px
+    assert blur.mean_px == pytest.approx(expected, rel=1e-3)
+    assert blur.max_px == pytest.approx(expected, rel=1e-3)
+    assert min(abs(blur.angle_deg - angle), 180 - abs(blur.angle_deg - angle)) < 0.5
+    assert blur.samples >= expected  # sub-exposure renders at most 1 px apart
+    # the rendered images agree: the first and last instants are `expected` px apart
+    start = render(wall_scene(), trajectory.poses([-exposure / 2])[0], camera, WIDTH, HEIGHT)[0]
+    end = render(wall_scene(), trajectory.poses([exposure / 2])[0], camera, WIDTH, HEIGHT)[0]
+    (dx, dy), _ = cv2.phaseCorrelate(
+        start.mean(axis=2).astype(np.float64), end.mean(axis=2).astype(np.float64)
+    )
+    assert np.hypot(dx, dy) == pytest.approx(expected, abs=0.3)
+
+    # and blur removes detail along the motion more than across it
+    def detail_kept(axis: int) -> float:
+        return float(
+            np.abs(np.diff(blurred.mean(2), axis=axis)).mean()
+            / np.abs(np.diff(sharp.mean(2), axis=axis)).mean()
+        )
+
+    along, across = (1, 0) if angle == 0 else (0, 1)
+    assert detail_kept(along) < 0.8 * detail_kept(across)
+
+
+def test_stored_poses_are_rigid(quick_root: Path) -> None:
+    for scene in ("chess", "stairs"):
+        for split in ("train", "test"):
+            for sequence in load_split(quick_root, scene, split):
+                for pose in sequence.poses():
+                    assert orthonormality_error(pose[:3, :3]) < 1e-8
+                    assert np.linalg.det(pose[:3, :3]) == pytest.approx(1.0, abs=1e-8)
+                    np.testing.assert_array_equal(pose[3], [0, 0, 0, 1])
+
+
+def test_stored_depth_matches_the_render(quick_root: Path) -> None:
+    sequence = load_split(quick_root, "chess", "test")[0]
+    depth_mm = cv2.imread(str(sequence.path(0, "depth")), cv2.IMREAD_UNCHANGED)
+    assert depth_mm.dtype == np.uint16
+    pose = sequence.poses()[0]
+    _, depth = render(make_scene("chess"), pose, intrinsics(WIDTH, HEIGHT), WIDTH, HEIGHT)
+    np.testing.assert_allclose(depth_mm / 1000.0, depth, atol=6e-4)  # pose stored to 1e-9
+
+
+@pytest.mark.parametrize("scene_name", SCENE_NAMES)
+def test_trajectories_move_like_7scenes(scene_name: str) -> None:
+    config = SynthConfig()
+    steps, turns = [], []
+    for sequence in range(6):
+        trajectory = HandheldTrajectory(
+            make_scene(scene_name), 100 / 30, np.random.default_rng(sequence), config
+        )
+        step, turn = frame_to_frame_motion(trajectory.poses(np.arange(100) / 30))
+        steps.append(step)
+        turns.append(turn)
+    steps, turns = np.concatenate(steps), np.concatenate(turns)
+    assert np.median(steps) == pytest.approx(0.009, rel=0.1)
+    assert np.median(turns) == pytest.approx(0.55, rel=0.1)
+    # 95th percentile over median, real 7-Scenes: 1.7-3.6 (steps), 2.0-3.6 (rotations)
+    assert 1.5 < np.percentile(steps, 95) / np.median(steps) < 4.5
+    assert 1.5 < np.percentile(turns, 95) / np.median(turns) < 4.5
+
+
+def test_same_seed_gives_identical_files(quick_root: Path, tmp_path: Path) -> None:
+    again = synthesize(
+        tmp_path / "again",
+        scenes=["chess", "stairs"],
+        config=SynthConfig.quick(),
+        seed=3,
+        workers=2,
+        progress=False,
+    )
+    files = sorted(p.relative_to(quick_root) for p in quick_root.rglob("*") if p.is_file())
+    assert files == sorted(p.relative_to(again) for p in again.rglob("*") if p.is_file())
+    _, mismatch, errors = filecmp.cmpfiles(
+        quick_root, again, [str(f) for f in files], shallow=False
+    )
+    assert mismatch == [] and errors == []
+    other = synthesize(
+        tmp_path / "other",
+        scenes=["stairs"],
+        config=SynthConfig.quick(),
+        seed=4,
+        workers=1,
+        progress=False,
+    )
+    assert not filecmp.cmp(
+        quick_root / "stairs/seq-01/frame-000000.color.png",
+        other / "stairs/seq-01/frame-000000.color.png",
+        shallow=False,
+    )
+
+
+def test_synthesize_is_idempotent(quick_root: Path) -> None:
+    stamp = (quick_root / "standin.json").stat().st_mtime_ns
+    synthesize(
+        quick_root, scenes=["chess", "stairs"], config=SynthConfig.quick(), seed=3, progress=False
+    )
+    assert (quick_root / "standin.json").stat().st_mtime_ns == stamp
+    assert check_data(quick_root)["scenes"]["chess"]["test"]["frames"] == 8
+
+
+def test_bad_settings_are_refused(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="unknown scene"):
+        synthesize(tmp_path, scenes=["kitchen"], progress=False)
+    with pytest.raises(ValueError, match="at least 8x8"):
+        SynthConfig(width=4)
+    with pytest.raises(ValueError, match=">= 0"):
+        SynthConfig(blur_strength=-1)
