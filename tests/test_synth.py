@@ -233,3 +233,17 @@ def test_bad_settings_are_refused(tmp_path: Path) -> None:
         SynthConfig(width=4)
     with pytest.raises(ValueError, match=">= 0"):
         SynthConfig(blur_strength=-1)
+
+
+def test_clearance_is_the_distance_to_the_nearest_surface() -> None:
+    from blurloc.data.scenes import room
+
+    scene = Scene(
+        "room",
+        tuple(room(4.0, 4.0, 2.5, ("brick", 1.0, (1, 1, 1)), ("brick", 1.0, (1, 1, 1)))),
+        (),
+        (2, 2, 1),
+        (2, 3, 1),
+    )
+    clearance = scene.clearance(np.array([[2.0, 2.0, 1.0], [0.5, 2.0, 2.0], [5.0, 2.0, 1.0]]))
+    np.testing.assert_allclose(clearance, [1.0, 0.5, -1.0])

@@ -1,0 +1,66 @@
+"""Every notebook runs headless with papermill in quick mode, in order, and writes its figures."""
+
+from __future__ import annotations
+
+import ast
+import json
+from pathlib import Path
+
+import pytest
+
+from blurloc.config import NOTEBOOKS_DIR
+from blurloc.runner import EXPECTED_OUTPUTS, notebook_names, run_notebooks
+
+REQUIRED_PARAMETERS = {"quick", "seed", "data_root", "results_dir", "figures_dir", "device"}
+
+
+def _cells(name: str) -> list[dict]:
+    return json.loads((NOTEBOOKS_DIR / f"{name}.ipynb").read_text())["cells"]
+
+
+def test_every_notebook_is_clean_and_parameterised() -> None:
+    names = notebook_names()
+    assert names[0] == "00_synthetic_scenes"
+    assert set(names) == set(EXPECTED_OUTPUTS)
+    for name in names:
+        notebook = json.loads((NOTEBOOKS_DIR / f"{name}.ipynb").read_text())
+        assert notebook["metadata"]["kernelspec"]["name"] == "python3", name
+        code = [c for c in notebook["cells"] if c["cell_type"] == "code"]
+        assert all(not c["outputs"] and c["execution_count"] is None for c in code), name
+        tagged = [c for c in code if "parameters" in c.get("metadata", {}).get("tags", [])]
+        assert len(tagged) == 1, name
+        assigned = {}
+        for statement in ast.parse("".join(tagged[0]["source"])).body:
+            assert isinstance(statement, ast.Assign), f"{name}: parameters hold assignments only"
+            assigned[statement.targets[0].id] = ast.literal_eval(statement.value)  # literals only
+        assert REQUIRED_PARAMETERS <= set(assigned), name
+        last = notebook["cells"][-2:]
+        assert any("What we saw" in "".join(c["source"]) for c in last), name
+
+
+@pytest.mark.notebooks
+def test_notebooks_run_in_quick_mode(tmp_path: Path) -> None:
+    figures = tmp_path / "figures"
+    parameters = {
+        "quick": True,
+        "data_root": str(tmp_path / "data"),
+        "results_dir": str(tmp_path / "results"),
+        "figures_dir": str(figures),
+    }
+    timings = run_notebooks(
+        quick=True, parameters=parameters, output_dir=tmp_path / "build", cell_timeout_s=600
+    )
+    assert [name for name, _ in timings] == notebook_names()
+    for name, files in EXPECTED_OUTPUTS.items():
+        for file in files:
+            path = figures / file
+            assert path.is_file() and path.stat().st_size > 0, f"{name} did not write {file}"
+        executed = json.loads((tmp_path / "build" / f"{name}.ipynb").read_text())
+        errors = [
+            o
+            for c in executed["cells"]
+            if c["cell_type"] == "code"
+            for o in c.get("outputs", [])
+            if o.get("output_type") == "error"
+        ]
+        assert not errors, name
