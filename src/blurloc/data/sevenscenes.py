@@ -1,0 +1,286 @@
+"""Reader of the Microsoft 7-Scenes layout (the real dataset or the synthetic stand-in).
+
+::
+
+    <root>/<scene>/TrainSplit.txt, TestSplit.txt    lines "sequence1", "sequence2", ...
+    <root>/<scene>/seq-01/frame-000000.color.png    colour frame
+    <root>/<scene>/seq-01/frame-000000.pose.txt     4x4 camera-to-world pose, metres
+    <root>/<scene>/seq-01/frame-000000.depth.png    uint16 depth, millimetres (optional here)
+
+Every problem is reported as a :class:`DataError` naming the offending file.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Iterable, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+import cv2
+import numpy as np
+import torch
+from torch.utils.data import Dataset
+from tqdm.auto import tqdm
+
+from ..geometry import orthonormality_error, rotation_to_quaternion
+
+SPLIT_FILES = {"train": "TrainSplit.txt", "test": "TestSplit.txt"}
+ROTATION_TOLERANCE = 1e-2  # real 7-Scenes rotations are orthonormal to about 4e-4
+_FRAME = re.compile(r"^frame-(\d+)\.(color\.png|pose\.txt)$")
+_SPLIT_LINE = re.compile(r"^sequence(\d+)$", re.IGNORECASE)
+
+
+class DataError(ValueError):
+    """A 7-Scenes-layout file is missing, unreadable or invalid; the message names the file."""
+
+
+def read_pose(path: str | os.PathLike) -> np.ndarray:
+    """Read a 4x4 camera-to-world pose (whitespace separated, CRLF tolerated) and validate it."""
+    path = Path(path)
+    try:
+        values = np.array(path.read_text().split(), dtype=float)
+    except FileNotFoundError:
+        raise DataError(f"{path}: pose file is missing") from None
+    except ValueError as error:
+        raise DataError(f"{path}: pose file holds a non-number ({error})") from None
+    if values.size != 16:
+        raise DataError(f"{path}: pose must hold 16 numbers (4x4), found {values.size}")
+    pose = values.reshape(4, 4)
+    if not np.all(np.isfinite(pose)):
+        raise DataError(f"{path}: pose holds NaN or inf")
+    if not np.allclose(pose[3], [0, 0, 0, 1], atol=ROTATION_TOLERANCE):
+        raise DataError(f"{path}: last row of the pose must be 0 0 0 1, found {pose[3]}")
+    error = orthonormality_error(pose[:3, :3])
+    if error > ROTATION_TOLERANCE or np.linalg.det(pose[:3, :3]) <= 0:
+        raise DataError(
+            f"{path}: rotation is not orthonormal (max |R^T R - I| = {error:.3g} > "
+            f"{ROTATION_TOLERANCE}, or det <= 0)"
+        )
+    return pose
+
+
+def read_image(path: str | os.PathLike) -> np.ndarray:
+    """Read a colour image as RGB uint8 (H, W, 3)."""
+    path = Path(path)
+    if not path.is_file():
+        raise DataError(f"{path}: image file is missing")
+    image = cv2.imread(str(path), cv2.IMREAD_COLOR)
+    if image is None:
+        raise DataError(f"{path}: image cannot be read (damaged or not an image)")
+    return image[..., ::-1].copy()
+
+
+def read_depth(path: str | os.PathLike) -> np.ndarray:
+    """Read a depth image as metres (float32); 0 where the sensor has no reading."""
+    path = Path(path)
+    depth = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    if depth is None or depth.ndim != 2:
+        raise DataError(f"{path}: depth image is missing or unreadable")
+    return depth.astype(np.float32) / 1000.0
+
+
+def read_split(scene_dir: str | os.PathLike, split: str) -> list[int]:
+    """Sequence numbers listed in a scene's TrainSplit.txt or TestSplit.txt."""
+    if split not in SPLIT_FILES:
+        raise ValueError(f"split must be one of {sorted(SPLIT_FILES)}, got {split!r}")
+    path = Path(scene_dir) / SPLIT_FILES[split]
+    if not path.is_file():
+        raise DataError(f"{path}: split file is missing")
+    numbers = []
+    for line_number, line in enumerate(path.read_text().splitlines(), start=1):
+        line = line.strip()
+        if not line:
+            continue
+        match = _SPLIT_LINE.match(line)
+        if not match:
+            raise DataError(f"{path}:{line_number}: expected 'sequenceN', found {line!r}")
+        numbers.append(int(match.group(1)))
+    return numbers
+
+
+@dataclass(frozen=True)
+class SequenceFrames:
+    """The ordered frames of one sequence folder ``<scene>/seq-XX``."""
+
+    scene: str
+    number: int
+    folder: Path
+    frame_ids: tuple[int, ...]
+
+    def path(self, frame_id: int, kind: str = "color") -> Path:
+        """File of a frame: kind ``color``, ``sharp`` or ``depth`` (PNG), or ``pose`` (txt)."""
+        suffix = "pose.txt" if kind == "pose" else f"{kind}.png"
+        return self.folder / f"frame-{frame_id:06d}.{suffix}"
+
+    def __len__(self) -> int:
+        return len(self.frame_ids)
+
+    def poses(self) -> np.ndarray:
+        """All camera-to-world poses (N, 4, 4), validated."""
+        return np.stack([read_pose(self.path(i, "pose")) for i in self.frame_ids])
+
+    def has(self, kind: str) -> bool:
+        """Whether every frame has a file of ``kind`` (e.g. the stand-in's ``sharp``)."""
+        return all(self.path(i, kind).is_file() for i in self.frame_ids)
+
+
+def list_sequence(scene_dir: str | os.PathLike, number: int) -> SequenceFrames:
+    """Frames of sequence ``number`` of a scene; every colour frame needs a pose and vice versa."""
+    scene_dir = Path(scene_dir)
+    folder = scene_dir / f"seq-{number:02d}"
+    if not folder.is_dir():
+        raise DataError(f"{folder}: sequence named in the split is missing")
+    colours, poses = set(), set()
+    for entry in os.scandir(folder):
+        match = _FRAME.match(entry.name)
+        if match:
+            (colours if match.group(2) == "color.png" else poses).add(int(match.group(1)))
+    if not colours and not poses:
+        raise DataError(f"{folder}: sequence holds no frames")
+    for frame_id in sorted(colours ^ poses):
+        kind = "pose" if frame_id in colours else "color"
+        path = folder / f"frame-{frame_id:06d}.{'pose.txt' if kind == 'pose' else 'color.png'}"
+        raise DataError(f"{path}: {kind} file is missing")
+    return SequenceFrames(scene_dir.name, number, folder, tuple(sorted(colours)))
+
+
+def list_scenes(root: str | os.PathLike) -> list[str]:
+    """Scene folders of a root: those holding a TrainSplit.txt or TestSplit.txt."""
+    root = Path(root)
+    if not root.is_dir():
+        raise DataError(f"{root}: data root is not a folder")
+    scenes = sorted(
+        entry.name
+        for entry in os.scandir(root)
+        if entry.is_dir() and any((Path(entry.path) / f).is_file() for f in SPLIT_FILES.values())
+    )
+    if not scenes:
+        raise DataError(f"{root}: no scene folders (with TrainSplit.txt / TestSplit.txt) found")
+    return scenes
+
+
+def load_split(root: str | os.PathLike, scene: str, split: str) -> list[SequenceFrames]:
+    """The sequences of one split of one scene, in split-file order."""
+    scene_dir = Path(root) / scene
+    if not scene_dir.is_dir():
+        raise DataError(f"{scene_dir}: scene folder is missing")
+    return [list_sequence(scene_dir, n) for n in read_split(scene_dir, split)]
+
+
+def check_data(root: str | os.PathLike, progress: bool = False, workers: int = 4) -> dict:
+    """Validate every scene under ``root`` and count its sequences and frames per split.
+
+    Reads every pose and decodes every colour image. Returns
+    ``{"scenes": {scene: {"train": {"sequences": N, "frames": N}, "test": {...}}}}``;
+    raises :class:`DataError` (naming the file) on the first problem.
+    """
+    summary: dict[str, dict] = {}
+    for scene in list_scenes(root):
+        counts = {}
+        for split in SPLIT_FILES:
+            sequences = load_split(root, scene, split)
+            counts[split] = {"sequences": len(sequences), "frames": sum(map(len, sequences))}
+            frames = [(seq, i) for seq in sequences for i in seq.frame_ids]
+            for sequence in sequences:
+                sequence.poses()
+            with ThreadPoolExecutor(workers) as pool:  # OpenCV decodes without the GIL
+                images = pool.map(lambda item: read_image(item[0].path(item[1])), frames)
+                for _ in tqdm(images, total=len(frames), desc=f"{scene}/{split}",
+                              disable=not progress, leave=False):
+                    pass
+        if counts["train"]["frames"] + counts["test"]["frames"] == 0:
+            raise DataError(f"{Path(root) / scene}: scene has no frames in its splits")
+        summary[scene] = counts
+    return {"scenes": summary}
+
+
+def _resize_short_side(image: np.ndarray, short_side: int) -> np.ndarray:
+    height, width = image.shape[:2]
+    scale = short_side / min(height, width)
+    if scale == 1:
+        return image
+    size = (max(1, round(width * scale)), max(1, round(height * scale)))
+    interpolation = cv2.INTER_AREA if scale < 1 else cv2.INTER_LINEAR
+    return cv2.resize(image, size, interpolation=interpolation)
+
+
+class PoseSequenceDataset(Dataset):
+    """Windows of ``window`` consecutive frames with their poses, preprocessed as in the paper.
+
+    Preprocessing (Sec. III.E): resize so the short side is ``resize`` px, crop ``crop``
+    (an int for a square, or (height, width)) at the centre or at a random place shared by the
+    whole window, and map intensities to [-1, 1]. Windows start every ``stride`` frames inside
+    each sequence. ``kinds`` chooses the images returned (``color``, and ``sharp`` on the
+    stand-in). Each item is a dict of tensors: ``<kind>`` (T, 3, H, W), ``position`` (T, 3),
+    ``quaternion`` (T, 4; w >= 0), ``pose`` (T, 4, 4), and ``sequence``/``frame`` indices.
+    """
+
+    def __init__(self, sequences: Sequence[SequenceFrames], window: int = 1, stride: int = 1,
+                 resize: int = 128, crop: int | tuple[int, int] | None = 112,
+                 random_crop: bool = False, kinds: Iterable[str] = ("color",),
+                 cache: bool = True) -> None:
+        if window < 1 or stride < 1:
+            raise ValueError(f"window and stride must be >= 1, got {window} and {stride}")
+        if not sequences:
+            raise DataError("no sequences given")
+        self.sequences = list(sequences)
+        self.window, self.stride, self.resize = window, stride, resize
+        self.crop = (crop, crop) if isinstance(crop, int) else crop
+        self.random_crop = random_crop
+        self.kinds = tuple(kinds)
+        self._poses = [seq.poses() for seq in self.sequences]
+        self._cache: dict[Path, np.ndarray] | None = {} if cache else None
+        self.index: list[tuple[int, int]] = []
+        for s, seq in enumerate(self.sequences):
+            if len(seq) < window:
+                raise DataError(f"{seq.folder}: {len(seq)} frames, shorter than the window ({window})")
+            self.index += [(s, start) for start in range(0, len(seq) - window + 1, stride)]
+
+    def __len__(self) -> int:
+        return len(self.index)
+
+    def _image(self, path: Path) -> np.ndarray:
+        if self._cache is not None and path in self._cache:
+            return self._cache[path]
+        image = _resize_short_side(read_image(path), self.resize)
+        if self._cache is not None:
+            self._cache[path] = image
+        return image
+
+    def _crop_box(self, height: int, width: int) -> tuple[int, int, int, int]:
+        if self.crop is None:
+            return 0, 0, height, width
+        crop_h, crop_w = self.crop
+        if crop_h > height or crop_w > width:
+            raise ValueError(f"crop {self.crop} larger than the resized image {height}x{width}")
+        if self.random_crop:
+            top = int(torch.randint(0, height - crop_h + 1, ()))
+            left = int(torch.randint(0, width - crop_w + 1, ()))
+        else:
+            top, left = (height - crop_h) // 2, (width - crop_w) // 2
+        return top, left, crop_h, crop_w
+
+    def __getitem__(self, item: int) -> dict[str, torch.Tensor]:
+        s, start = self.index[item]
+        sequence = self.sequences[s]
+        frame_ids = sequence.frame_ids[start : start + self.window]
+        out: dict[str, torch.Tensor] = {}
+        box = None
+        for kind in self.kinds:
+            images = [self._image(sequence.path(i, kind)) for i in frame_ids]
+            if box is None:
+                box = self._crop_box(*images[0].shape[:2])
+            top, left, h, w = box
+            stack = np.stack([im[top : top + h, left : left + w] for im in images])
+            tensor = torch.from_numpy(stack).permute(0, 3, 1, 2).float()
+            out[kind] = tensor / 127.5 - 1.0
+        poses = self._poses[s][start : start + self.window]
+        out["pose"] = torch.from_numpy(poses).float()
+        out["position"] = torch.from_numpy(poses[:, :3, 3]).float()
+        out["quaternion"] = torch.from_numpy(rotation_to_quaternion(poses[:, :3, :3])).float()
+        out["sequence"] = torch.tensor(s)
+        out["frame"] = torch.tensor(start)
+        return out

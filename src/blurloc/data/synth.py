@@ -1,0 +1,364 @@
+"""Renderer of the synthetic stand-in for 7-Scenes, written in the 7-Scenes layout.
+
+Each stored frame is made the way the GoPro deblurring benchmark is made: the camera moves along a
+continuous handheld trajectory, sharp frames are rendered at poses spread over the exposure, and
+their average *in linear light* (gamma 2.2) is the blurred frame, plus sensor noise. Beside it the
+stand-in stores the sharp render at mid-exposure (the ground truth that real 7-Scenes lacks), the
+pose at mid-exposure, the depth, and per-frame blur metadata.
+
+Layout written under ``root``::
+
+    standin.json                      the settings and seed that made it
+    <scene>/TrainSplit.txt, TestSplit.txt   ("sequenceN" lines)
+    <scene>/seq-XX/frame-XXXXXX.color.png   blurred, noisy (what the camera captured)
+    <scene>/seq-XX/frame-XXXXXX.sharp.png   sharp render at mid-exposure (stand-in only)
+    <scene>/seq-XX/frame-XXXXXX.pose.txt    4x4 camera-to-world at mid-exposure, metres
+    <scene>/seq-XX/frame-XXXXXX.depth.png   uint16 z-depth in millimetres (0: no surface)
+    <scene>/seq-XX/blur.csv                  per frame: blur extent (mean/max px), direction
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import multiprocessing
+import os
+import sys
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+
+import cv2
+import numpy as np
+from scipy.ndimage import gaussian_filter1d
+from scipy.spatial.transform import Rotation
+from tqdm.auto import tqdm
+
+from ..geometry import backproject, intrinsics, look_at, make_pose, project
+from .render import Scene, linear_to_srgb, render
+from .scenes import SCENE_NAMES, SEQUENCE_COUNTS, make_scene
+
+#: Per-frame motion of the real 7-Scenes trajectories (30 fps, handheld Kinect), from DESIGN.md.
+REAL_7SCENES_MOTION = {
+    "step_median_m": 0.009,
+    "step_p95_m": (0.015, 0.032),
+    "rotation_median_deg": 0.55,
+    "rotation_p95_deg": (1.1, 2.0),
+}
+
+FORMAT_VERSION = 4  # bump whenever rendering changes, so stale stand-ins are rendered again
+
+
+@dataclass(frozen=True)
+class SynthConfig:
+    """Settings of the stand-in. ``blur_strength`` is the exposure time in frame intervals.
+
+    The real Kinect exposes for at most one frame interval (1/30 s); at the stand-in's 160x120
+    that would give about 1-2 px of blur. The default 2.2 stretches it so that blur at 160x120 is
+    as strong, relative to the image, as strongly blurred real 7-Scenes frames at 640x480
+    (median extent >= 3 px, 90th percentile >= 8 px), which is the regime the paper is about.
+    """
+
+    width: int = 160
+    height: int = 120
+    frames_per_sequence: int = 100  # stairs gets half, as 7-Scenes (500 vs 1000)
+    blur_strength: float = 2.2
+    noise_sigma: float = 0.01  # Gaussian sensor noise on [0, 1] gamma-encoded intensities
+    max_sample_spacing_px: float = 1.0  # sub-exposure renders at most this far apart
+    fps: float = 30.0
+    step_median_m: float = REAL_7SCENES_MOTION["step_median_m"]
+    rotation_median_deg: float = REAL_7SCENES_MOTION["rotation_median_deg"]
+    sequence_counts: dict[str, tuple[int, int]] = field(default_factory=lambda: dict(SEQUENCE_COUNTS))
+
+    def __post_init__(self) -> None:
+        if self.width < 8 or self.height < 8:
+            raise ValueError(f"image size must be at least 8x8, got {self.width}x{self.height}")
+        if self.frames_per_sequence < 2:
+            raise ValueError("frames_per_sequence must be at least 2")
+        if self.blur_strength < 0 or self.noise_sigma < 0:
+            raise ValueError("blur_strength and noise_sigma must be >= 0")
+
+    @classmethod
+    def quick(cls, **overrides) -> SynthConfig:
+        """Tiny settings for CI: one training and one test sequence of 8 frames per scene."""
+        counts = {name: (1, 1) for name in SCENE_NAMES}
+        return replace(cls(frames_per_sequence=8, sequence_counts=counts), **overrides)
+
+    def frames_for(self, scene: str) -> int:
+        """Frames per sequence of ``scene`` (stairs sequences are half as long)."""
+        return max(2, self.frames_per_sequence // 2) if scene == "stairs" else self.frames_per_sequence
+
+
+def _unit_noise(rng: np.random.Generator, count: int, sigma_samples: float, dims: int) -> np.ndarray:
+    """Gaussian-smoothed white noise, each column scaled to unit standard deviation."""
+    noise = gaussian_filter1d(rng.standard_normal((count, dims)), sigma_samples, axis=0, mode="wrap")
+    return noise / noise.std(axis=0, keepdims=True)
+
+
+class HandheldTrajectory:
+    """A continuous handheld camera path: smooth wander + hand shake, with bursts of speed.
+
+    Positions and (yaw, pitch, roll) offsets are smoothed noise evaluated on a time axis warped
+    by a log-normal speed envelope (so some moments are much faster than others, as with a
+    hand-held camera); their scales are set so that the median camera step and rotation
+    between frames equal ``step_median_m`` and ``rotation_median_deg``. A path that comes
+    closer than ``scene.min_clearance_m`` to a surface (or leaves the room) is drawn again.
+    """
+
+    SAMPLE_RATE = 600.0  # Hz of the internal grid, fine against any exposure
+    CALIBRATION_S = 3.0  # the scales are set on at least this long a stretch, so that short
+    # (quick) sequences move like long ones
+    MAX_DRAWS = 200
+
+    def __init__(self, scene: Scene, duration_s: float, rng: np.random.Generator,
+                 config: SynthConfig) -> None:
+        self._center = np.asarray(scene.camera_center, float)
+        self._base_rotation = look_at(scene.camera_center, scene.focus)
+        margin = config.blur_strength / config.fps
+        checks = np.arange(-margin, duration_s + margin, 1.0 / 120.0)
+        for draws in range(1, self.MAX_DRAWS + 1):
+            self._draw(scene, duration_s, rng, config)
+            if scene.clearance(self.poses(checks)[:, :3, 3]).min() >= scene.min_clearance_m:
+                break
+        else:
+            raise RuntimeError(f"{scene.name}: no handheld path kept clear of the surfaces")
+        self.draws = draws
+
+    def _draw(self, scene: Scene, duration_s: float, rng: np.random.Generator,
+              config: SynthConfig) -> None:
+        rate = self.SAMPLE_RATE
+        span = max(duration_s, self.CALIBRATION_S)
+        self.times = np.arange(-1.0, span + 1.0, 1.0 / rate)
+        count = self.times.size
+        envelope = np.exp(0.7 * np.clip(_unit_noise(rng, count, 0.5 * rate, 1)[:, 0], -2.0, 1.6))
+        warped = np.cumsum(envelope / envelope.mean()) / rate
+        grid = np.linspace(warped[0], warped[-1], count)
+
+        def warp(values: np.ndarray) -> np.ndarray:
+            return np.stack([np.interp(warped, grid, column) for column in values.T], axis=1)
+
+        wander = scene.wander_s * rate
+        position = _unit_noise(rng, count, wander, 3) * [1.0, 1.0, 0.5]
+        position += 0.08 * _unit_noise(rng, count, 0.04 * rate, 3)
+        angles = _unit_noise(rng, count, 0.7 * wander, 3) * [1.0, 0.7, 0.3]
+        angles += 0.08 * _unit_noise(rng, count, 0.03 * rate, 3)
+        self._position_offset = warp(position)
+        self._angle_offset = warp(angles)
+
+        frame_times = np.arange(int(round(span * config.fps))) / config.fps
+        for _ in range(3):  # the angle scale is nearly linear: a few rescalings converge
+            poses = self.poses(frame_times)
+            steps = np.linalg.norm(np.diff(poses[:, :3, 3], axis=0), axis=1)
+            self._position_offset *= config.step_median_m / np.median(steps)
+            relative = np.swapaxes(poses[:-1, :3, :3], 1, 2) @ poses[1:, :3, :3]
+            turns = np.degrees(Rotation.from_matrix(relative).magnitude())
+            self._angle_offset *= config.rotation_median_deg / np.median(turns)
+
+    def poses(self, times: np.ndarray) -> np.ndarray:
+        """Camera-to-world poses (N, 4, 4) at ``times`` (seconds from the first frame)."""
+        times = np.atleast_1d(np.asarray(times, float))
+        if times.min() < self.times[0] or times.max() > self.times[-1]:
+            raise ValueError("time outside the trajectory")
+        position = np.stack([np.interp(times, self.times, c) for c in self._position_offset.T], 1)
+        angles = np.stack([np.interp(times, self.times, c) for c in self._angle_offset.T], 1)
+        # yaw about the camera's y (down) axis, pitch about x, roll about the optical axis
+        offset = Rotation.from_euler("YXZ", angles, degrees=True).as_matrix()
+        return make_pose(self._base_rotation @ offset, self._center + position)
+
+
+@dataclass(frozen=True)
+class BlurInfo:
+    """How far image points moved over one exposure (pixels) and in which direction.
+
+    ``angle_deg`` is the dominant direction of motion, in [0, 180), counter-clockwise from the
+    image's horizontal axis as displayed (y up).
+    """
+
+    mean_px: float
+    max_px: float
+    angle_deg: float
+    samples: int
+
+
+def blur_from_motion(track: np.ndarray) -> tuple[float, float, float]:
+    """Blur extent and direction from image tracks (samples, points, 2) over one exposure.
+
+    Returns the mean and max over points of each point's path length, and the dominant
+    direction (principal axis of the start-to-end displacements, degrees, y up).
+    """
+    path = np.linalg.norm(np.diff(track, axis=0), axis=2).sum(axis=0)
+    dx = track[-1, :, 0] - track[0, :, 0]
+    dy = -(track[-1, :, 1] - track[0, :, 1])  # image rows grow downwards; angles use y up
+    angle = 0.5 * np.degrees(np.arctan2(2 * (dx * dy).sum(), (dx * dx - dy * dy).sum()))
+    return float(path.mean()), float(path.max()), float(angle % 180.0)
+
+
+def exposure_tracks(scene: Scene, trajectory: HandheldTrajectory, time_s: float,
+                    config: SynthConfig, camera: np.ndarray, depth: np.ndarray | None = None,
+                    grid_step: int | None = None, samples: int = 9) -> np.ndarray:
+    """Image paths (samples, points, 2) of a grid of scene points over one exposure.
+
+    The points are the surfaces seen at mid-exposure on a pixel grid (every ``grid_step`` px);
+    each is projected at ``samples`` instants from the exposure's start to its end. Points at
+    different depths and image positions move differently: that is why one blur kernel cannot
+    describe a real camera-shake frame.
+    """
+    mid_pose = trajectory.poses([time_s])[0]
+    if depth is None:
+        depth = render(scene, mid_pose, camera, config.width, config.height)[1]
+    step = grid_step or max(1, min(config.width, config.height) // 16)
+    v, u = np.mgrid[step // 2 : config.height : step, step // 2 : config.width : step]
+    valid = depth[v, u] > 0
+    if not valid.any():
+        raise RuntimeError(f"{scene.name}: the camera sees no surface at t = {time_s:.3f} s")
+    points = backproject(np.column_stack([u[valid], v[valid]]), depth[v, u][valid], mid_pose, camera)
+    exposure = config.blur_strength / config.fps
+    times = time_s + exposure * np.linspace(-0.5, 0.5, samples)
+    return np.stack([project(points, pose, camera)[:, :2] for pose in trajectory.poses(times)])
+
+
+def render_exposure(scene: Scene, trajectory: HandheldTrajectory, time_s: float,
+                    config: SynthConfig, camera: np.ndarray) -> tuple[np.ndarray, np.ndarray,
+                                                                     np.ndarray, BlurInfo]:
+    """Render one frame: linear-light blurred image, sharp image at mid-exposure, depth, blur.
+
+    The exposure [t - E/2, t + E/2] (E = blur_strength / fps) is integrated with the midpoint
+    rule over an odd number of sharp renders, spaced at most ``max_sample_spacing_px`` apart in
+    the image, so the middle render is the sharp frame itself and no motion gives a blurred
+    frame equal to the sharp one.
+    """
+    width, height = config.width, config.height
+    mid_pose = trajectory.poses([time_s])[0]
+    sharp, depth = render(scene, mid_pose, camera, width, height)
+    exposure = config.blur_strength / config.fps
+    tracks = exposure_tracks(scene, trajectory, time_s, config, camera, depth)
+    mean_px, max_px, angle = blur_from_motion(tracks)
+    samples = int(np.clip(np.ceil(max_px / config.max_sample_spacing_px), 1, 41)) if exposure else 1
+    samples += 1 - samples % 2  # odd, so the middle sample is the mid-exposure (sharp) render
+    offsets = exposure * ((np.arange(samples) + 0.5) / samples - 0.5)
+    total = sharp.astype(np.float64)
+    for index, pose in enumerate(trajectory.poses(time_s + offsets)):
+        if index != samples // 2:
+            total += render(scene, pose, camera, width, height)[0]
+    blurred = (total / samples).astype(np.float32)
+    return blurred, sharp, depth, BlurInfo(mean_px, max_px, angle, samples)
+
+
+def to_uint8(linear: np.ndarray, noise: np.ndarray | None = None) -> np.ndarray:
+    """Gamma-encode linear light, add noise (on [0, 1] intensities) and quantise to uint8."""
+    encoded = linear_to_srgb(linear)
+    if noise is not None:
+        encoded = encoded + noise
+    return np.round(np.clip(encoded, 0.0, 1.0) * 255.0).astype(np.uint8)
+
+
+def split_sequences(scene: str, config: SynthConfig) -> tuple[list[int], list[int]]:
+    """Sequence numbers (1-based) of the training and test splits, test ones interleaved."""
+    n_train, n_test = config.sequence_counts[scene]
+    total = n_train + n_test
+    test = sorted({int(round(x)) for x in np.linspace(1, total, n_test + 2)[1:-1]})
+    while len(test) < n_test:  # tiny counts: fill from the end
+        test.append(max(set(range(1, total + 1)) - set(test)))
+    train = [s for s in range(1, total + 1) if s not in test]
+    return train, sorted(test)
+
+
+def _sequence_seed(seed: int, scene: str, sequence: int) -> list[int]:
+    return [seed, SCENE_NAMES.index(scene), sequence]
+
+
+def sequence_trajectory(scene_name: str, sequence: int, config: SynthConfig | None = None,
+                        seed: int = 0) -> tuple[Scene, HandheldTrajectory]:
+    """The scene and the exact trajectory that :func:`synthesize` used for one sequence."""
+    config = config or SynthConfig()
+    scene = make_scene(scene_name)
+    rng = np.random.default_rng(_sequence_seed(seed, scene_name, sequence))
+    duration = config.frames_for(scene_name) / config.fps
+    return scene, HandheldTrajectory(scene, duration, rng, config)
+
+
+def render_sequence(root: Path, scene_name: str, sequence: int, config: SynthConfig,
+                    seed: int) -> int:
+    """Render and write one sequence; returns its number of frames."""
+    cv2.setNumThreads(1)
+    scene, trajectory = sequence_trajectory(scene_name, sequence, config, seed)
+    frames = config.frames_for(scene_name)
+    noise_rng = np.random.default_rng([*_sequence_seed(seed, scene_name, sequence), 1])
+    camera = intrinsics(config.width, config.height)
+    folder = root / scene_name / f"seq-{sequence:02d}"
+    folder.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for frame in range(frames):
+        blurred, sharp, depth, blur = render_exposure(scene, trajectory, frame / config.fps,
+                                                      config, camera)
+        noise = noise_rng.normal(0.0, config.noise_sigma, blurred.shape) if config.noise_sigma else None
+        stem = folder / f"frame-{frame:06d}"
+        cv2.imwrite(f"{stem}.color.png", to_uint8(blurred, noise)[..., ::-1])
+        cv2.imwrite(f"{stem}.sharp.png", to_uint8(sharp)[..., ::-1])
+        depth_mm = np.clip(np.round(depth * 1000.0), 0, 65535).astype(np.uint16)
+        cv2.imwrite(f"{stem}.depth.png", depth_mm)
+        pose = trajectory.poses([frame / config.fps])[0]
+        np.savetxt(f"{stem}.pose.txt", pose, fmt="%.9e", delimiter="\t")
+        rows.append([frame, f"{blur.mean_px:.4f}", f"{blur.max_px:.4f}", f"{blur.angle_deg:.2f}",
+                     blur.samples])
+    with open(folder / "blur.csv", "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["frame", "mean_px", "max_px", "angle_deg", "samples"])
+        writer.writerows(rows)
+    return frames
+
+
+def _render_job(job: tuple) -> int:
+    return render_sequence(*job)
+
+
+def _manifest(config: SynthConfig, seed: int, scenes: list[str]) -> dict:
+    settings = asdict(config)
+    settings["sequence_counts"] = {k: list(v) for k, v in config.sequence_counts.items()}
+    return {"format": FORMAT_VERSION, "seed": seed, "scenes": scenes, "config": settings}
+
+
+def synthesize(root: str | os.PathLike, scenes: list[str] | None = None,
+               config: SynthConfig | None = None, seed: int = 0, workers: int | None = None,
+               progress: bool = True, overwrite: bool = False) -> Path:
+    """Render the stand-in into ``root`` in the 7-Scenes layout and return ``root``.
+
+    Idempotent: if ``root/standin.json`` records the same settings, nothing is rendered again.
+    The same seed gives byte-identical files, whatever the number of workers.
+    """
+    root = Path(root)
+    config = config or SynthConfig()
+    scenes = list(scenes or SCENE_NAMES)
+    unknown = sorted(set(scenes) - set(SCENE_NAMES))
+    if unknown:
+        raise ValueError(f"unknown scene(s) {unknown}; choose from {', '.join(SCENE_NAMES)}")
+    manifest = _manifest(config, seed, scenes)
+    manifest_path = root / "standin.json"
+    if not overwrite and manifest_path.exists():
+        if json.loads(manifest_path.read_text()) == manifest:
+            return root
+    manifest_path.unlink(missing_ok=True)
+
+    jobs = []
+    for scene in scenes:
+        train, test = split_sequences(scene, config)
+        (root / scene).mkdir(parents=True, exist_ok=True)
+        for name, numbers in (("TrainSplit.txt", train), ("TestSplit.txt", test)):
+            (root / scene / name).write_text("".join(f"sequence{n}\n" for n in numbers))
+        jobs += [(root, scene, n, config, seed) for n in sorted(train + test)]
+    jobs.sort(key=lambda job: -config.frames_for(job[1]))  # long jobs first: better balance
+    total = sum(config.frames_for(job[1]) for job in jobs)
+
+    workers = workers or min(len(jobs), os.cpu_count() or 1)
+    with tqdm(total=total, unit="frame", desc="stand-in", disable=not progress) as bar:
+        if workers == 1:
+            for job in jobs:
+                bar.update(_render_job(job))
+        else:
+            method = "forkserver" if sys.platform.startswith("linux") else "spawn"
+            with multiprocessing.get_context(method).Pool(workers) as pool:
+                for frames in pool.imap_unordered(_render_job, jobs):
+                    bar.update(frames)
+    temporary = manifest_path.with_suffix(".tmp")
+    temporary.write_text(json.dumps(manifest, indent=2))
+    temporary.replace(manifest_path)
+    return root
