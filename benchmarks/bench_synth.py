@@ -35,15 +35,23 @@ def main() -> None:
         synthesize(folder, config=sample, workers=args.workers, progress=False)
         seconds = time.perf_counter() - start
         start = time.perf_counter()
-        synthesize(os.path.join(folder, "quick"), config=SynthConfig.quick(),
-                   workers=args.workers, progress=False)
+        synthesize(
+            os.path.join(folder, "quick"),
+            config=SynthConfig.quick(),
+            workers=args.workers,
+            progress=False,
+        )
         quick_seconds = time.perf_counter() - start
     rate = total_sample / seconds
-    print(f"rendered {total_sample} frames ({full.width}x{full.height}, 14 sequences) "
-          f"in {seconds:.1f} s with {args.workers} worker(s)")
+    print(
+        f"rendered {total_sample} frames ({full.width}x{full.height}, 14 sequences) "
+        f"in {seconds:.1f} s with {args.workers} worker(s)"
+    )
     print(f"frames per second: {rate:.1f} in all, {rate / args.workers:.1f} per worker")
-    print(f"full default stand-in: {total_full} frames, projected {total_full / rate / 60:.1f} min "
-          f"(target <= 10 min on 2 cores)")
+    print(
+        f"full default stand-in: {total_full} frames, projected {total_full / rate / 60:.1f} min "
+        f"(target <= 10 min on 2 cores)"
+    )
     print(f"quick stand-in: {quick_seconds:.1f} s (target <= 20 s)")
 
 

@@ -10,7 +10,7 @@ parameter of a hit is its z-depth.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cache
 
 import cv2
 import numpy as np
@@ -59,7 +59,7 @@ _PHOTOS = {
 TEXTURE_NAMES = (*sorted(_PHOTOS), "checker")
 
 
-@lru_cache(maxsize=None)
+@cache
 def texture_pyramid(name: str) -> tuple[np.ndarray, ...]:
     """Mip pyramid (linear-light float32 RGB, halving sizes) of a named texture."""
     if name == "checker":
@@ -105,7 +105,9 @@ class Quad:
     @property
     def center(self) -> np.ndarray:
         """The quad's centre (world, metres)."""
-        return np.asarray(self.origin) + 0.5 * np.asarray(self.edge_u) + 0.5 * np.asarray(self.edge_v)
+        return (
+            np.asarray(self.origin) + 0.5 * np.asarray(self.edge_u) + 0.5 * np.asarray(self.edge_v)
+        )
 
 
 @dataclass(frozen=True)
@@ -138,7 +140,9 @@ class Scene:
             edge_v = np.array([q.edge_v for q in self.quads], float)
             normal = np.cross(edge_u, edge_v)
             normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-            corners = np.stack([origin, origin + edge_u, origin + edge_u + edge_v, origin + edge_v], 1)
+            corners = np.stack(
+                [origin, origin + edge_u, origin + edge_u + edge_v, origin + edge_v], 1
+            )
             self.arrays.update(
                 origin=origin,
                 corners=corners,
@@ -191,7 +195,11 @@ def render(
     rotation, eye = pose[:3, :3], pose[:3, 3]
     u, v = np.meshgrid(np.arange(width), np.arange(height))
     rays_camera = np.stack(
-        [(u - camera[0, 2]) / camera[0, 0], (v - camera[1, 2]) / camera[1, 1], np.ones_like(u, float)],
+        [
+            (u - camera[0, 2]) / camera[0, 0],
+            (v - camera[1, 2]) / camera[1, 1],
+            np.ones_like(u, float),
+        ],
         axis=-1,
     )
     # world directions with unit z-component in the camera frame; float32 is ample at metres
@@ -267,11 +275,17 @@ def render(
         tex_x = hit_u[mask] * quad.repeat[0] * tex_w
         tex_y = hit_v[mask] * quad.repeat[1] * tex_h
         texels_per_metre = np.sqrt(
-            quad.repeat[0] * tex_w / arrays["length_u"][index]
-            * quad.repeat[1] * tex_h / arrays["length_v"][index]
+            quad.repeat[0]
+            * tex_w
+            / arrays["length_u"][index]
+            * quad.repeat[1]
+            * tex_h
+            / arrays["length_v"][index]
         )
         cosine = np.abs(facing) / ray_length[mask]
-        footprint = t * ray_length[mask] / focal / np.sqrt(np.maximum(cosine, 0.05)) * texels_per_metre
+        footprint = (
+            t * ray_length[mask] / focal / np.sqrt(np.maximum(cosine, 0.05)) * texels_per_metre
+        )
         level = np.clip(np.log2(np.maximum(footprint, 1e-6)), 0, MIP_LEVELS - 1)
         base = np.minimum(np.floor(level).astype(int), MIP_LEVELS - 2)
         fraction = (level - base)[:, None]
@@ -280,7 +294,9 @@ def render(
             sel = base == lod
             fine = _sample(pyramid[lod], tex_x[sel] / 2**lod - 0.5, tex_y[sel] / 2**lod - 0.5)
             coarse = _sample(
-                pyramid[lod + 1], tex_x[sel] / 2 ** (lod + 1) - 0.5, tex_y[sel] / 2 ** (lod + 1) - 0.5
+                pyramid[lod + 1],
+                tex_x[sel] / 2 ** (lod + 1) - 0.5,
+                tex_y[sel] / 2 ** (lod + 1) - 0.5,
             )
             albedo[sel] = (1 - fraction[sel]) * fine + fraction[sel] * coarse
         image[mask] = albedo * np.asarray(quad.tint, np.float32) * light[:, None].astype(np.float32)

@@ -24,8 +24,14 @@ ORANGE = (1.0, 0.45, 0.08)
 DARK = (0.18, 0.18, 0.2)
 
 
-def _quad(origin: Vec, edge_u: Vec, edge_v: Vec, texture: str, metres_per_tile: float | None = None,
-          tint: Vec = (1.0, 1.0, 1.0)) -> Quad:
+def _quad(
+    origin: Vec,
+    edge_u: Vec,
+    edge_v: Vec,
+    texture: str,
+    metres_per_tile: float | None = None,
+    tint: Vec = (1.0, 1.0, 1.0),
+) -> Quad:
     """A quad whose texture tiles every ``metres_per_tile`` (None: stretched once over it)."""
     if metres_per_tile is None:
         repeat = (1.0, 1.0)
@@ -34,12 +40,24 @@ def _quad(origin: Vec, edge_u: Vec, edge_v: Vec, texture: str, metres_per_tile: 
             float(np.linalg.norm(edge_u)) / metres_per_tile,
             float(np.linalg.norm(edge_v)) / metres_per_tile,
         )
-    return Quad(tuple(map(float, origin)), tuple(map(float, edge_u)), tuple(map(float, edge_v)),
-                texture, repeat, tint)
+    return Quad(
+        tuple(map(float, origin)),
+        tuple(map(float, edge_u)),
+        tuple(map(float, edge_v)),
+        texture,
+        repeat,
+        tint,
+    )
 
 
-def room(width: float, depth: float, height: float, floor: tuple, walls: tuple,
-         ceiling: tuple = ("gravel", 1.0, PLASTER)) -> list[Quad]:
+def room(
+    width: float,
+    depth: float,
+    height: float,
+    floor: tuple,
+    walls: tuple,
+    ceiling: tuple = ("gravel", 1.0, PLASTER),
+) -> list[Quad]:
     """Floor, ceiling and four walls of a room spanning [0, width] x [0, depth] x [0, height].
 
     ``floor``, ``walls`` and ``ceiling`` are (texture, metres per tile, tint).
@@ -55,9 +73,15 @@ def room(width: float, depth: float, height: float, floor: tuple, walls: tuple,
     ]
 
 
-def box(corner: Vec, size: Vec, texture: str, metres_per_tile: float | None = 0.5,
-        tint: Vec = (1.0, 1.0, 1.0), bottom: bool = False) -> list[Quad]:
-    """An axis-aligned box from ``corner`` (min x, y, z) with ``size`` (its bottom face optional)."""
+def box(
+    corner: Vec,
+    size: Vec,
+    texture: str,
+    metres_per_tile: float | None = 0.5,
+    tint: Vec = (1.0, 1.0, 1.0),
+    bottom: bool = False,
+) -> list[Quad]:
+    """An axis-aligned box from ``corner`` (min x, y, z) of ``size``; bottom face optional."""
     x, y, z = corner
     sx, sy, sz = size
     faces = [
@@ -72,8 +96,14 @@ def box(corner: Vec, size: Vec, texture: str, metres_per_tile: float | None = 0.
     return faces
 
 
-def wall_picture(center: Vec, normal_axis: str, width: float, height: float, texture: str,
-                 tint: Vec = (1.0, 1.0, 1.0)) -> Quad:
+def wall_picture(
+    center: Vec,
+    normal_axis: str,
+    width: float,
+    height: float,
+    texture: str,
+    tint: Vec = (1.0, 1.0, 1.0),
+) -> Quad:
     """A picture hung 5 mm in front of a wall; ``normal_axis`` is the wall's inward normal."""
     cx, cy, cz = center
     offsets = {"+x": (0.005, 0, 0), "-x": (-0.005, 0, 0), "+y": (0, 0.005, 0), "-y": (0, -0.005, 0)}
@@ -102,16 +132,26 @@ def chess() -> Scene:
         col, row = rng.integers(0, 8, size=2)
         tint = (0.9, 0.88, 0.8) if i % 2 else (0.08, 0.07, 0.06)
         height = 0.04 + 0.03 * rng.random()
-        quads += box((2.285 + col * 0.05625, 1.785 + row * 0.05625, 0.742), (0.036, 0.036, height),
-                     "moon", None, tint)
+        quads += box(
+            (2.285 + col * 0.05625, 1.785 + row * 0.05625, 0.742),
+            (0.036, 0.036, height),
+            "moon",
+            None,
+            tint,
+        )
     quads += [
         wall_picture((2.5, 3.99, 1.5), "-y", 1.2, 0.8, "chelsea"),
         wall_picture((4.99, 2.0, 1.4), "-x", 1.0, 1.0, "colorwheel"),
         wall_picture((0.01, 2.0, 1.5), "+x", 1.2, 0.8, "astronaut"),
     ]
     quads += box((0.2, 3.4, 0.0), (1.2, 0.45, 1.6), "grass", 0.4, WOOD)
-    return Scene("chess", tuple(quads), _lights((2.5, 2.0, 2.4), (1.0, 0.8, 2.3)),
-                 camera_center=(2.5, 0.75, 1.35), focus=(2.5, 2.0, 0.8))
+    return Scene(
+        "chess",
+        tuple(quads),
+        _lights((2.5, 2.0, 2.4), (1.0, 0.8, 2.3)),
+        camera_center=(2.5, 0.75, 1.35),
+        focus=(2.5, 2.0, 0.8),
+    )
 
 
 def fire() -> Scene:
@@ -125,8 +165,13 @@ def fire() -> Scene:
     quads.append(wall_picture((2.25, 3.99, 1.85), "-y", 0.9, 0.6, "coffee"))
     quads += box((0.3, 2.6, 0.0), (0.9, 0.9, 0.45), "coins", 0.45, (0.6, 0.2, 0.2))
     quads.append(wall_picture((0.01, 1.8, 1.5), "+x", 1.0, 0.7, "rocket"))
-    return Scene("fire", tuple(quads), _lights((2.2, 2.0, 2.5), (3.8, 0.8, 2.0)),
-                 camera_center=(2.3, 1.4, 1.3), focus=(2.25, 3.6, 1.0))
+    return Scene(
+        "fire",
+        tuple(quads),
+        _lights((2.2, 2.0, 2.5), (3.8, 0.8, 2.0)),
+        camera_center=(2.3, 1.4, 1.3),
+        focus=(2.25, 3.6, 1.0),
+    )
 
 
 def heads() -> Scene:
@@ -138,8 +183,14 @@ def heads() -> Scene:
     quads.append(_quad((1.1, 1.3, 0.722), (0.35, 0, 0), (0, 0.3, 0), "coins", None))
     quads.append(wall_picture((1.55, 1.99, 1.3), "-y", 0.6, 0.4, "ihc"))
     quads.append(wall_picture((2.19, 1.5, 1.2), "-x", 0.5, 0.5, "chelsea"))
-    return Scene("heads", tuple(quads), _lights((1.2, 1.0, 2.3), power=2.4),
-                 camera_center=(1.35, 0.75, 1.15), focus=(1.5, 1.6, 0.85), wander_s=0.45)
+    return Scene(
+        "heads",
+        tuple(quads),
+        _lights((1.2, 1.0, 2.3), power=2.4),
+        camera_center=(1.35, 0.75, 1.15),
+        focus=(1.5, 1.6, 0.85),
+        wander_s=0.45,
+    )
 
 
 def office() -> Scene:
@@ -153,8 +204,13 @@ def office() -> Scene:
     quads.append(wall_picture((3.0, 4.99, 1.7), "-y", 1.6, 0.9, "rocket"))
     quads.append(wall_picture((5.99, 2.5, 1.5), "-x", 1.0, 0.8, "camera"))
     quads += box((2.0, 2.2, 0.0), (0.5, 0.5, 0.45), "coins", None, DARK)
-    return Scene("office", tuple(quads), _lights((2.0, 2.5, 2.6), (4.5, 3.0, 2.6)),
-                 camera_center=(3.0, 1.6, 1.4), focus=(3.0, 3.9, 0.9))
+    return Scene(
+        "office",
+        tuple(quads),
+        _lights((2.0, 2.5, 2.6), (4.5, 3.0, 2.6)),
+        camera_center=(3.0, 1.6, 1.4),
+        focus=(3.0, 3.9, 0.9),
+    )
 
 
 def pumpkin() -> Scene:
@@ -166,8 +222,13 @@ def pumpkin() -> Scene:
     quads.append(wall_picture((2.0, 3.99, 1.75), "-y", 1.0, 0.7, "ihc"))
     quads.append(wall_picture((3.99, 2.2, 1.4), "-x", 0.9, 0.9, "hubble"))
     quads += box((3.0, 3.3, 0.0), (0.8, 0.6, 1.2), "brick", 0.4, STEEL)
-    return Scene("pumpkin", tuple(quads), _lights((2.0, 2.0, 2.5), (0.8, 1.0, 2.3)),
-                 camera_center=(2.0, 1.5, 1.3), focus=(2.0, 3.5, 1.0))
+    return Scene(
+        "pumpkin",
+        tuple(quads),
+        _lights((2.0, 2.0, 2.5), (0.8, 1.0, 2.3)),
+        camera_center=(2.0, 1.5, 1.3),
+        focus=(2.0, 3.5, 1.0),
+    )
 
 
 def redkitchen() -> Scene:
@@ -176,14 +237,22 @@ def redkitchen() -> Scene:
     quads = room(7.0, 3.0, 2.6, ("checker", 0.6, (0.6, 0.6, 0.6)), ("gravel", 1.0, PLASTER))
     quads += box((0.5, 2.4, 0.0), (5.2, 0.6, 0.88), "brick", 0.6, red)
     quads += box((0.5, 2.35, 0.88), (5.2, 0.65, 0.04), "moon", 0.6, STEEL)
-    quads.append(_quad((0.5, 2.995, 1.5), (5.2, 0, 0), (0, 0, -0.58), "checker", 0.15, (0.9, 0.9, 0.85)))
+    quads.append(
+        _quad((0.5, 2.995, 1.5), (5.2, 0, 0), (0, 0, -0.58), "checker", 0.15, (0.9, 0.9, 0.85))
+    )
     quads += box((0.5, 2.65, 1.5), (5.2, 0.35, 0.7), "brick", 0.6, red)
     quads += box((5.9, 2.25, 0.0), (0.8, 0.75, 1.9), "moon", 0.8, STEEL)
     quads.append(_quad((2.6, 2.6, 0.925), (0.4, 0, 0), (0, 0.3, 0), "coffee", None))
     quads.append(wall_picture((0.01, 1.5, 1.5), "+x", 1.0, 0.8, "chelsea"))
     quads += box((2.5, 0.0, 0.0), (1.5, 0.5, 0.9), "grass", 0.4, WOOD)
-    return Scene("redkitchen", tuple(quads), _lights((1.8, 1.5, 2.5), (5.0, 1.5, 2.5)),
-                 camera_center=(3.2, 1.2, 1.45), focus=(3.2, 2.7, 0.9), wander_s=1.0)
+    return Scene(
+        "redkitchen",
+        tuple(quads),
+        _lights((1.8, 1.5, 2.5), (5.0, 1.5, 2.5)),
+        camera_center=(3.2, 1.2, 1.45),
+        focus=(3.2, 2.7, 0.9),
+        wander_s=1.0,
+    )
 
 
 def stairs() -> Scene:
@@ -192,14 +261,35 @@ def stairs() -> Scene:
     step_depth, step_height = 0.28, 0.18
     for i in range(12):
         y = 2.0 + i * step_depth
-        quads.append(_quad((0.4, y, (i + 1) * step_height), (1.6, 0, 0), (0, step_depth, 0),
-                           "gravel", 0.4, (0.55, 0.5, 0.45)))
-        quads.append(_quad((0.4, y, (i + 1) * step_height), (1.6, 0, 0), (0, 0, -step_height),
-                           "grass", 0.4, WOOD))
+        quads.append(
+            _quad(
+                (0.4, y, (i + 1) * step_height),
+                (1.6, 0, 0),
+                (0, step_depth, 0),
+                "gravel",
+                0.4,
+                (0.55, 0.5, 0.45),
+            )
+        )
+        quads.append(
+            _quad(
+                (0.4, y, (i + 1) * step_height),
+                (1.6, 0, 0),
+                (0, 0, -step_height),
+                "grass",
+                0.4,
+                WOOD,
+            )
+        )
     quads.append(wall_picture((2.39, 3.5, 2.2), "-x", 0.8, 0.6, "astronaut"))
     quads.append(wall_picture((0.01, 2.5, 1.8), "+x", 0.7, 0.5, "rocket"))
-    return Scene("stairs", tuple(quads), _lights((1.2, 1.5, 3.5), (1.2, 4.5, 3.8)),
-                 camera_center=(1.2, 0.9, 1.4), focus=(1.2, 3.2, 1.1))
+    return Scene(
+        "stairs",
+        tuple(quads),
+        _lights((1.2, 1.5, 3.5), (1.2, 4.5, 3.8)),
+        camera_center=(1.2, 0.9, 1.4),
+        focus=(1.2, 3.2, 1.1),
+    )
 
 
 SCENES = {

@@ -188,8 +188,13 @@ def check_data(root: str | os.PathLike, progress: bool = False, workers: int = 4
                 sequence.poses()
             with ThreadPoolExecutor(workers) as pool:  # OpenCV decodes without the GIL
                 images = pool.map(lambda item: read_image(item[0].path(item[1])), frames)
-                for _ in tqdm(images, total=len(frames), desc=f"{scene}/{split}",
-                              disable=not progress, leave=False):
+                for _ in tqdm(
+                    images,
+                    total=len(frames),
+                    desc=f"{scene}/{split}",
+                    disable=not progress,
+                    leave=False,
+                ):
                     pass
         if counts["train"]["frames"] + counts["test"]["frames"] == 0:
             raise DataError(f"{Path(root) / scene}: scene has no frames in its splits")
@@ -218,10 +223,17 @@ class PoseSequenceDataset(Dataset):
     ``quaternion`` (T, 4; w >= 0), ``pose`` (T, 4, 4), and ``sequence``/``frame`` indices.
     """
 
-    def __init__(self, sequences: Sequence[SequenceFrames], window: int = 1, stride: int = 1,
-                 resize: int = 128, crop: int | tuple[int, int] | None = 112,
-                 random_crop: bool = False, kinds: Iterable[str] = ("color",),
-                 cache: bool = True) -> None:
+    def __init__(
+        self,
+        sequences: Sequence[SequenceFrames],
+        window: int = 1,
+        stride: int = 1,
+        resize: int = 128,
+        crop: int | tuple[int, int] | None = 112,
+        random_crop: bool = False,
+        kinds: Iterable[str] = ("color",),
+        cache: bool = True,
+    ) -> None:
         if window < 1 or stride < 1:
             raise ValueError(f"window and stride must be >= 1, got {window} and {stride}")
         if not sequences:
@@ -236,7 +248,9 @@ class PoseSequenceDataset(Dataset):
         self.index: list[tuple[int, int]] = []
         for s, seq in enumerate(self.sequences):
             if len(seq) < window:
-                raise DataError(f"{seq.folder}: {len(seq)} frames, shorter than the window ({window})")
+                raise DataError(
+                    f"{seq.folder}: {len(seq)} frames, shorter than the window ({window})"
+                )
             self.index += [(s, start) for start in range(0, len(seq) - window + 1, stride)]
 
     def __len__(self) -> int:

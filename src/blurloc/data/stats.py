@@ -45,8 +45,9 @@ def motion_statistics(root: str | os.PathLike) -> list[dict]:
     return rows
 
 
-def _motion_row(scene: str, sequences: int, frames: int, steps: list, turns: list,
-                extents: list) -> dict:
+def _motion_row(
+    scene: str, sequences: int, frames: int, steps: list, turns: list, extents: list
+) -> dict:
     step = np.concatenate(steps) * 1000.0
     turn = np.concatenate(turns)
     extent = np.median(np.stack(extents), axis=0)

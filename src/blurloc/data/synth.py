@@ -67,7 +67,9 @@ class SynthConfig:
     fps: float = 30.0
     step_median_m: float = REAL_7SCENES_MOTION["step_median_m"]
     rotation_median_deg: float = REAL_7SCENES_MOTION["rotation_median_deg"]
-    sequence_counts: dict[str, tuple[int, int]] = field(default_factory=lambda: dict(SEQUENCE_COUNTS))
+    sequence_counts: dict[str, tuple[int, int]] = field(
+        default_factory=lambda: dict(SEQUENCE_COUNTS)
+    )
 
     def __post_init__(self) -> None:
         if self.width < 8 or self.height < 8:
@@ -85,12 +87,18 @@ class SynthConfig:
 
     def frames_for(self, scene: str) -> int:
         """Frames per sequence of ``scene`` (stairs sequences are half as long)."""
-        return max(2, self.frames_per_sequence // 2) if scene == "stairs" else self.frames_per_sequence
+        return (
+            max(2, self.frames_per_sequence // 2) if scene == "stairs" else self.frames_per_sequence
+        )
 
 
-def _unit_noise(rng: np.random.Generator, count: int, sigma_samples: float, dims: int) -> np.ndarray:
+def _unit_noise(
+    rng: np.random.Generator, count: int, sigma_samples: float, dims: int
+) -> np.ndarray:
     """Gaussian-smoothed white noise, each column scaled to unit standard deviation."""
-    noise = gaussian_filter1d(rng.standard_normal((count, dims)), sigma_samples, axis=0, mode="wrap")
+    noise = gaussian_filter1d(
+        rng.standard_normal((count, dims)), sigma_samples, axis=0, mode="wrap"
+    )
     return noise / noise.std(axis=0, keepdims=True)
 
 
@@ -109,22 +117,24 @@ class HandheldTrajectory:
     # (quick) sequences move like long ones
     MAX_DRAWS = 200
 
-    def __init__(self, scene: Scene, duration_s: float, rng: np.random.Generator,
-                 config: SynthConfig) -> None:
+    def __init__(
+        self, scene: Scene, duration_s: float, rng: np.random.Generator, config: SynthConfig
+    ) -> None:
         self._center = np.asarray(scene.camera_center, float)
         self._base_rotation = look_at(scene.camera_center, scene.focus)
         margin = config.blur_strength / config.fps
         checks = np.arange(-margin, duration_s + margin, 1.0 / 120.0)
-        for draws in range(1, self.MAX_DRAWS + 1):
+        self.draws = 0  # how many paths were drawn until one kept clear
+        while self.draws < self.MAX_DRAWS:
+            self.draws += 1
             self._draw(scene, duration_s, rng, config)
             if scene.clearance(self.poses(checks)[:, :3, 3]).min() >= scene.min_clearance_m:
-                break
-        else:
-            raise RuntimeError(f"{scene.name}: no handheld path kept clear of the surfaces")
-        self.draws = draws
+                return
+        raise RuntimeError(f"{scene.name}: no handheld path kept clear of the surfaces")
 
-    def _draw(self, scene: Scene, duration_s: float, rng: np.random.Generator,
-              config: SynthConfig) -> None:
+    def _draw(
+        self, scene: Scene, duration_s: float, rng: np.random.Generator, config: SynthConfig
+    ) -> None:
         rate = self.SAMPLE_RATE
         span = max(duration_s, self.CALIBRATION_S)
         self.times = np.arange(-1.0, span + 1.0, 1.0 / rate)
@@ -144,7 +154,7 @@ class HandheldTrajectory:
         self._position_offset = warp(position)
         self._angle_offset = warp(angles)
 
-        frame_times = np.arange(int(round(span * config.fps))) / config.fps
+        frame_times = np.arange(int(np.rint(span * config.fps))) / config.fps
         for _ in range(3):  # the angle scale is nearly linear: a few rescalings converge
             poses = self.poses(frame_times)
             steps = np.linalg.norm(np.diff(poses[:, :3, 3], axis=0), axis=1)
@@ -192,9 +202,16 @@ def blur_from_motion(track: np.ndarray) -> tuple[float, float, float]:
     return float(path.mean()), float(path.max()), float(angle % 180.0)
 
 
-def exposure_tracks(scene: Scene, trajectory: HandheldTrajectory, time_s: float,
-                    config: SynthConfig, camera: np.ndarray, depth: np.ndarray | None = None,
-                    grid_step: int | None = None, samples: int = 9) -> np.ndarray:
+def exposure_tracks(
+    scene: Scene,
+    trajectory: HandheldTrajectory,
+    time_s: float,
+    config: SynthConfig,
+    camera: np.ndarray,
+    depth: np.ndarray | None = None,
+    grid_step: int | None = None,
+    samples: int = 9,
+) -> np.ndarray:
     """Image paths (samples, points, 2) of a grid of scene points over one exposure.
 
     The points are the surfaces seen at mid-exposure on a pixel grid (every ``grid_step`` px);
@@ -210,15 +227,21 @@ def exposure_tracks(scene: Scene, trajectory: HandheldTrajectory, time_s: float,
     valid = depth[v, u] > 0
     if not valid.any():
         raise RuntimeError(f"{scene.name}: the camera sees no surface at t = {time_s:.3f} s")
-    points = backproject(np.column_stack([u[valid], v[valid]]), depth[v, u][valid], mid_pose, camera)
+    points = backproject(
+        np.column_stack([u[valid], v[valid]]), depth[v, u][valid], mid_pose, camera
+    )
     exposure = config.blur_strength / config.fps
     times = time_s + exposure * np.linspace(-0.5, 0.5, samples)
     return np.stack([project(points, pose, camera)[:, :2] for pose in trajectory.poses(times)])
 
 
-def render_exposure(scene: Scene, trajectory: HandheldTrajectory, time_s: float,
-                    config: SynthConfig, camera: np.ndarray) -> tuple[np.ndarray, np.ndarray,
-                                                                     np.ndarray, BlurInfo]:
+def render_exposure(
+    scene: Scene,
+    trajectory: HandheldTrajectory,
+    time_s: float,
+    config: SynthConfig,
+    camera: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, BlurInfo]:
     """Render one frame: linear-light blurred image, sharp image at mid-exposure, depth, blur.
 
     The exposure [t - E/2, t + E/2] (E = blur_strength / fps) is integrated with the midpoint
@@ -255,7 +278,7 @@ def split_sequences(scene: str, config: SynthConfig) -> tuple[list[int], list[in
     """Sequence numbers (1-based) of the training and test splits, test ones interleaved."""
     n_train, n_test = config.sequence_counts[scene]
     total = n_train + n_test
-    test = sorted({int(round(x)) for x in np.linspace(1, total, n_test + 2)[1:-1]})
+    test = sorted({int(np.rint(x)) for x in np.linspace(1, total, n_test + 2)[1:-1]})
     while len(test) < n_test:  # tiny counts: fill from the end
         test.append(max(set(range(1, total + 1)) - set(test)))
     train = [s for s in range(1, total + 1) if s not in test]
@@ -266,8 +289,9 @@ def _sequence_seed(seed: int, scene: str, sequence: int) -> list[int]:
     return [seed, SCENE_NAMES.index(scene), sequence]
 
 
-def sequence_trajectory(scene_name: str, sequence: int, config: SynthConfig | None = None,
-                        seed: int = 0) -> tuple[Scene, HandheldTrajectory]:
+def sequence_trajectory(
+    scene_name: str, sequence: int, config: SynthConfig | None = None, seed: int = 0
+) -> tuple[Scene, HandheldTrajectory]:
     """The scene and the exact trajectory that :func:`synthesize` used for one sequence."""
     config = config or SynthConfig()
     scene = make_scene(scene_name)
@@ -276,8 +300,9 @@ def sequence_trajectory(scene_name: str, sequence: int, config: SynthConfig | No
     return scene, HandheldTrajectory(scene, duration, rng, config)
 
 
-def render_sequence(root: Path, scene_name: str, sequence: int, config: SynthConfig,
-                    seed: int) -> int:
+def render_sequence(
+    root: Path, scene_name: str, sequence: int, config: SynthConfig, seed: int
+) -> int:
     """Render and write one sequence; returns its number of frames."""
     cv2.setNumThreads(1)
     scene, trajectory = sequence_trajectory(scene_name, sequence, config, seed)
@@ -288,9 +313,12 @@ def render_sequence(root: Path, scene_name: str, sequence: int, config: SynthCon
     folder.mkdir(parents=True, exist_ok=True)
     rows = []
     for frame in range(frames):
-        blurred, sharp, depth, blur = render_exposure(scene, trajectory, frame / config.fps,
-                                                      config, camera)
-        noise = noise_rng.normal(0.0, config.noise_sigma, blurred.shape) if config.noise_sigma else None
+        blurred, sharp, depth, blur = render_exposure(
+            scene, trajectory, frame / config.fps, config, camera
+        )
+        noise = (
+            noise_rng.normal(0.0, config.noise_sigma, blurred.shape) if config.noise_sigma else None
+        )
         stem = folder / f"frame-{frame:06d}"
         cv2.imwrite(f"{stem}.color.png", to_uint8(blurred, noise)[..., ::-1])
         cv2.imwrite(f"{stem}.sharp.png", to_uint8(sharp)[..., ::-1])
@@ -298,8 +326,15 @@ def render_sequence(root: Path, scene_name: str, sequence: int, config: SynthCon
         cv2.imwrite(f"{stem}.depth.png", depth_mm)
         pose = trajectory.poses([frame / config.fps])[0]
         np.savetxt(f"{stem}.pose.txt", pose, fmt="%.9e", delimiter="\t")
-        rows.append([frame, f"{blur.mean_px:.4f}", f"{blur.max_px:.4f}", f"{blur.angle_deg:.2f}",
-                     blur.samples])
+        rows.append(
+            [
+                frame,
+                f"{blur.mean_px:.4f}",
+                f"{blur.max_px:.4f}",
+                f"{blur.angle_deg:.2f}",
+                blur.samples,
+            ]
+        )
     with open(folder / "blur.csv", "w", newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow(["frame", "mean_px", "max_px", "angle_deg", "samples"])
@@ -317,9 +352,15 @@ def _manifest(config: SynthConfig, seed: int, scenes: list[str]) -> dict:
     return {"format": FORMAT_VERSION, "seed": seed, "scenes": scenes, "config": settings}
 
 
-def synthesize(root: str | os.PathLike, scenes: list[str] | None = None,
-               config: SynthConfig | None = None, seed: int = 0, workers: int | None = None,
-               progress: bool = True, overwrite: bool = False) -> Path:
+def synthesize(
+    root: str | os.PathLike,
+    scenes: list[str] | None = None,
+    config: SynthConfig | None = None,
+    seed: int = 0,
+    workers: int | None = None,
+    progress: bool = True,
+    overwrite: bool = False,
+) -> Path:
     """Render the stand-in into ``root`` in the 7-Scenes layout and return ``root``.
 
     Idempotent: if ``root/standin.json`` records the same settings, nothing is rendered again.
