@@ -1,0 +1,260 @@
+"""Motion blur: kernels (PSFs), the blur model (eq. 1), spectra, detection and blind estimation.
+
+Conventions: images are float arrays in [0, 1] (or uint8), rows downwards. Angles are degrees in
+[0, 180), counter-clockwise from the image's horizontal axis as displayed (y up); lengths are
+pixels of the image given. A kernel is a 2-D array summing to 1 with its centre at
+``(rows // 2, cols // 2)``.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+import scipy.fft
+
+from .images import as_float_image, check_image
+
+_SUBSAMPLES_PER_PX = 16
+
+
+def _splat(points: np.ndarray, weights: np.ndarray, size: int) -> np.ndarray:
+    """Bilinear splat of points (x right, y down; 0 = kernel centre) into a size x size kernel."""
+    kernel = np.zeros((size, size))
+    x = points[:, 0] + size // 2
+    y = points[:, 1] + size // 2
+    x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
+    fx, fy = x - x0, y - y0
+    for dx, dy, w in ((0, 0, (1 - fx) * (1 - fy)), (1, 0, fx * (1 - fy)),
+                      (0, 1, (1 - fx) * fy), (1, 1, fx * fy)):  # fmt: skip
+        np.add.at(kernel, (y0 + dy, x0 + dx), w * weights)
+    return kernel / kernel.sum()
+
+
+def motion_kernel(length_px: float, angle_deg: float, size: int | None = None) -> np.ndarray:
+    """Linear motion PSF: a segment of ``length_px`` pixels at ``angle_deg``, anti-aliased.
+
+    The segment is centred on the kernel centre and sampled 16 times per pixel with bilinear
+    weights, so sub-pixel lengths and any angle are represented. ``size`` (odd) defaults to the
+    smallest odd size that holds the segment.
+    """
+    length_px = float(length_px)
+    if not np.isfinite(length_px) or length_px <= 0:
+        raise ValueError(f"kernel length must be > 0, got {length_px}")
+    needed = 2 * int(np.ceil(length_px / 2 + 1)) + 1
+    size = size or needed
+    if size < needed - 2 or size % 2 == 0:
+        raise ValueError(f"kernel size must be odd and hold the segment (>= {needed - 2})")
+    count = max(2, int(np.ceil(length_px * _SUBSAMPLES_PER_PX)))
+    t = (np.arange(count) + 0.5) / count - 0.5
+    theta = np.radians(angle_deg)
+    points = np.column_stack([t * length_px * np.cos(theta), -t * length_px * np.sin(theta)])
+    return _splat(points, np.ones(count), size)
+
+
+def trajectory_kernel(trajectory_px: np.ndarray, size: int | None = None) -> np.ndarray:
+    """PSF of a camera-shake path: image positions (N, 2; x right, y down, px) at equal time
+    steps over the exposure. The path is centred on its mean and sampled 16 times per pixel."""
+    path = np.asarray(trajectory_px, float)
+    if path.ndim != 2 or path.shape[1] != 2 or len(path) < 1 or not np.isfinite(path).all():
+        raise ValueError("trajectory must be a finite (N, 2) array of pixel positions")
+    path = path - path.mean(axis=0)
+    samples, weights = [path[:1]], [np.ones(1)]  # a single position: a sharp (delta) kernel
+    for start, end in itertools.pairwise(path):
+        count = max(1, int(np.ceil(np.linalg.norm(end - start) * _SUBSAMPLES_PER_PX)))
+        t = (np.arange(count) + 0.5)[:, None] / count
+        samples.append(start + t * (end - start))
+        weights.append(np.full(count, 1.0 / count))  # equal time per segment
+    if len(path) > 1:
+        samples, weights = samples[1:], weights[1:]
+    points, weight = np.concatenate(samples), np.concatenate(weights)
+    needed = 2 * int(np.ceil(np.abs(points).max() + 1)) + 1
+    return _splat(points, weight, size or needed)
+
+
+def check_kernel(kernel: np.ndarray, image_shape: tuple[int, ...] | None = None) -> np.ndarray:
+    """A kernel as float64 normalised to sum 1, or a ValueError saying what is wrong."""
+    kernel = np.asarray(kernel, float)
+    if kernel.ndim != 2 or kernel.size == 0:
+        raise ValueError(f"kernel must be a non-empty 2-D array, got shape {kernel.shape}")
+    if not np.isfinite(kernel).all():
+        raise ValueError("kernel holds NaN or inf")
+    total = kernel.sum()
+    if abs(total) < 1e-12:
+        raise ValueError("kernel sums to 0: it cannot be normalised")
+    if image_shape is not None and (
+        kernel.shape[0] > image_shape[0] or kernel.shape[1] > image_shape[1]
+    ):
+        raise ValueError(f"kernel {kernel.shape} is larger than the image {image_shape[:2]}")
+    return kernel / total
+
+
+def blur_image(
+    image: np.ndarray,
+    kernel: np.ndarray,
+    noise_sigma: float = 0.0,
+    boundary: str = "reflect",
+    rng: np.random.Generator | None = None,
+) -> np.ndarray:
+    """The blur model of eq. 1, b = c * x + η: convolve with ``kernel``, add Gaussian noise.
+
+    ``boundary`` is how the image continues beyond its border: ``reflect`` (mirror, without
+    repeating the edge pixel), ``wrap`` (periodic, the model the DFT assumes) or ``constant``
+    (zeros). Returns float64 (noise is not clipped); uint8 input is scaled to [0, 1] first.
+    """
+    image = as_float_image(image)
+    kernel = check_kernel(kernel, image.shape)
+    modes = {"reflect": cv2.BORDER_REFLECT_101, "wrap": cv2.BORDER_WRAP,
+             "constant": cv2.BORDER_CONSTANT}  # fmt: skip
+    if boundary not in modes:
+        raise ValueError(f"boundary must be one of {sorted(modes)}, got {boundary!r}")
+    if noise_sigma < 0:
+        raise ValueError("noise_sigma must be >= 0")
+    flipped = np.ascontiguousarray(kernel[::-1, ::-1])  # filter2D correlates: flip to convolve
+    anchor = (kernel.shape[1] // 2, kernel.shape[0] // 2)
+    if boundary == "wrap":  # OpenCV's filter2D has no wrap mode: pad periodically, then crop
+        ph, pw = kernel.shape[0], kernel.shape[1]
+        padded = np.pad(image, ((ph, ph), (pw, pw)) + ((0, 0),) * (image.ndim - 2), mode="wrap")
+        out = cv2.filter2D(padded, cv2.CV_64F, flipped, anchor=anchor)[ph:-ph, pw:-pw]
+    else:
+        out = cv2.filter2D(image, cv2.CV_64F, flipped, anchor=anchor, borderType=modes[boundary])
+    if noise_sigma:
+        rng = rng or np.random.default_rng()
+        out = out + rng.normal(0.0, noise_sigma, out.shape)
+    return out
+
+
+def to_gray(image: np.ndarray) -> np.ndarray:
+    """Float gray image in [0, 1] (mean of the channels of an RGB image)."""
+    image = as_float_image(image)
+    return image.mean(axis=2) if image.ndim == 3 else image
+
+
+def log_power_spectrum(image: np.ndarray, window: int = 256) -> np.ndarray:
+    """Centred log power spectrum, averaged over Hann-windowed tiles (Welch's method).
+
+    Tiles of ``window`` x ``window`` px (the whole image, cropped square, if it is smaller)
+    overlap by half; the Hann window removes the border discontinuity that would otherwise draw
+    a bright cross through the spectrum. Returns log(mean |FFT|^2), zero frequency at the centre.
+    """
+    gray = to_gray(check_image(image))
+    size = min(window, *gray.shape)
+    size -= size % 2
+    if size < 8:
+        raise ValueError(f"image too small for a spectrum: {gray.shape}")
+    hann = np.outer(np.hanning(size), np.hanning(size))
+    step = size // 2
+    tiles = [
+        gray[r : r + size, c : c + size]
+        for r in range(0, gray.shape[0] - size + 1, step)
+        for c in range(0, gray.shape[1] - size + 1, step)
+    ]
+    stack = np.stack(tiles)
+    stack = (stack - stack.mean(axis=(1, 2), keepdims=True)) * hann
+    power = (np.abs(scipy.fft.fft2(stack, workers=-1)) ** 2).mean(axis=0)
+    return np.fft.fftshift(np.log(power + 1e-12))
+
+
+@dataclass(frozen=True)
+class BlurEstimate:
+    """Blind estimate of linear motion blur: ``length_px`` at ``angle_deg`` (module conventions)
+    and ``fit``, the correlation of the spectrum's profile with the sinc model (1 = perfect)."""
+
+    length_px: float
+    angle_deg: float
+    fit: float
+
+    def kernel(self) -> np.ndarray:
+        """The linear motion kernel of this estimate."""
+        return motion_kernel(max(self.length_px, 1.0), self.angle_deg)
+
+
+def _whiten(log_spectrum: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Log spectrum minus its radial mean, and the centred frequency grids (in bins)."""
+    size = log_spectrum.shape[0]
+    fy, fx = np.mgrid[-(size // 2) : size - size // 2, -(size // 2) : size - size // 2]
+    radius = np.hypot(fx, fy)
+    ring = np.round(radius).astype(int)
+    radial_mean = np.bincount(ring.ravel(), log_spectrum.ravel()) / np.bincount(ring.ravel())
+    return log_spectrum - radial_mean[ring], fx, fy
+
+
+def _profile(
+    values: np.ndarray, fx: np.ndarray, fy: np.ndarray, angle_rad: float, resolution: float = 0.5
+) -> tuple[np.ndarray, np.ndarray]:
+    """Mean of spectrum ``values`` (at frequencies fx, fy in bins) along lines perpendicular to
+    direction ``angle_rad`` (x right, y down), against the distance r (bins) along it: the
+    Radon projection of the spectrum onto that direction."""
+    index = np.rint((fx * np.cos(angle_rad) + fy * np.sin(angle_rad)) / resolution).astype(int)
+    offset = index.min()
+    counts = np.bincount(index - offset)
+    sums = np.bincount(index - offset, values)
+    keep = counts > 0
+    return (np.arange(counts.size)[keep] + offset) * resolution, sums[keep] / counts[keep]
+
+
+_ANGLE_STEPS_DEG = (3.0, 0.5, 0.1)  # coarse-to-fine search of the motion direction
+
+
+def _sinc_fit(r: np.ndarray, profile: np.ndarray, size: int) -> tuple[float, float]:
+    """Length L (px) whose log |sinc(L r / N)|^2 correlates best with the profile, and that
+    correlation. Zeros of a length-L box lie every N / L frequency bins. Searched on a 0.5 px
+    grid from 1 px to min(64, N/2) px, then refined to 0.02 px."""
+    keep = np.abs(r) >= 1.0
+    radius, values = np.abs(r[keep]), profile[keep]
+    centred = values - values.mean()
+
+    def correlations(lengths: np.ndarray) -> np.ndarray:
+        models = np.log(np.sinc(lengths[:, None] * radius[None, :] / size) ** 2 + 1e-3)
+        models -= models.mean(axis=1, keepdims=True)
+        norms = np.linalg.norm(models, axis=1) * np.linalg.norm(centred) + 1e-12
+        return models @ centred / norms
+
+    lengths = np.arange(1.0, min(64.0, size / 2), 0.5)
+    best = lengths[int(np.argmax(correlations(lengths)))]
+    lengths = np.arange(max(1.0, best - 0.5), best + 0.5 + 1e-9, 0.02)
+    fits = correlations(lengths)
+    return float(lengths[int(np.argmax(fits))]), float(fits.max())
+
+
+def _analyse(gray: np.ndarray, window: int) -> tuple[float, float, float]:
+    """Direction (rad, x right / y down), length (px) and sinc-fit correlation."""
+    spectrum = log_power_spectrum(gray, window)
+    size = spectrum.shape[0]
+    whitened, fx, fy = _whiten(spectrum)
+    radius = np.hypot(fx, fy)
+    mask = (radius >= 2) & (radius <= 0.9 * size / 2)
+    values, fx, fy = whitened[mask], fx[mask].astype(float), fy[mask].astype(float)
+
+    def spread(angle: float) -> float:
+        return float(np.var(_profile(values, fx, fy, angle)[1]))
+
+    best = None
+    for level, step in enumerate(_ANGLE_STEPS_DEG):
+        if best is None:
+            candidates = np.arange(0.0, 180.0, step)
+        else:
+            span = _ANGLE_STEPS_DEG[level - 1]
+            candidates = best + np.arange(-span, span + 1e-9, step)
+        best = candidates[int(np.argmax([spread(np.radians(a)) for a in candidates]))]
+    direction = float(np.radians(best))
+    r, profile = _profile(values, fx, fy, direction)
+    length, correlation = _sinc_fit(r, profile, size)
+    return direction, length, correlation
+
+
+def estimate_motion_blur(image: np.ndarray, window: int = 256) -> BlurEstimate:
+    """Blind estimate of the length and angle of linear motion blur from the spectrum.
+
+    A length-L box blur multiplies the spectrum by sinc^2(L f), whose zeros form stripes
+    perpendicular to the motion, N / L frequency bins apart. The log power spectrum (Welch,
+    Hann tiles of ``window`` px) is whitened by its radial mean; its Radon projection onto a
+    direction has the largest variance when that direction is the motion's (3° grid, then
+    0.1° refinement); the projection along it is fitted by log sinc^2(L r / N) for L from 1 to
+    64 px in 0.05 px steps. Scale: lengths are pixels of the image given.
+    """
+    direction, length, fit = _analyse(to_gray(image), window)
+    angle = float(np.degrees(np.arctan2(-np.sin(direction), np.cos(direction))) % 180.0)
+    return BlurEstimate(length_px=length, angle_deg=angle, fit=fit)

@@ -1,0 +1,40 @@
+"""Checks and conversions shared by the image functions: what they accept and what they return."""
+
+from __future__ import annotations
+
+import numpy as np
+
+SUPPORTED_DTYPES = (np.uint8, np.float32, np.float64)
+
+
+def check_image(image: np.ndarray) -> np.ndarray:
+    """Return ``image`` if it is a usable gray (H, W) or RGB (H, W, 3) image, else ValueError.
+
+    Accepted: uint8 (0-255) or float32/float64 (nominally [0, 1]), at least 2x2 pixels, finite.
+    """
+    if not isinstance(image, np.ndarray):
+        raise ValueError(f"image must be a NumPy array, got {type(image).__name__}")
+    if image.dtype.type not in SUPPORTED_DTYPES:
+        raise ValueError(f"unsupported dtype {image.dtype}: use uint8, float32 or float64")
+    if image.ndim not in (2, 3) or (image.ndim == 3 and image.shape[2] != 3):
+        raise ValueError(f"image must be (H, W) or (H, W, 3), got shape {image.shape}")
+    if image.shape[0] < 2 or image.shape[1] < 2:
+        raise ValueError(f"image must be at least 2x2 pixels, got {image.shape[:2]}")
+    if image.dtype != np.uint8 and not np.isfinite(image).all():
+        raise ValueError("image holds NaN or inf pixels")
+    return image
+
+
+def as_float_image(image: np.ndarray) -> np.ndarray:
+    """The image as float64 in [0, 1] (uint8 is divided by 255); checked first."""
+    image = check_image(image)
+    if image.dtype == np.uint8:
+        return image.astype(np.float64) / 255.0
+    return image.astype(np.float64)
+
+
+def like_input(result: np.ndarray, original: np.ndarray) -> np.ndarray:
+    """Convert a float [0, 1] result back to the dtype of ``original`` (uint8: clip and round)."""
+    if original.dtype == np.uint8:
+        return np.round(np.clip(result, 0.0, 1.0) * 255.0).astype(np.uint8)
+    return result.astype(original.dtype)

@@ -1,0 +1,129 @@
+"""Kernels, the blur model, the spectrum and blind estimation of linear motion blur."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import skimage.data
+
+from blurloc.blur import (
+    blur_image,
+    estimate_motion_blur,
+    log_power_spectrum,
+    motion_kernel,
+    to_gray,
+    trajectory_kernel,
+)
+
+
+def angle_error(a: float, b: float) -> float:
+    difference = abs(a - b) % 180
+    return min(difference, 180 - difference)
+
+
+@pytest.mark.parametrize(
+    ("length", "angle"), [(9.0, 0.0), (12.5, 30.0), (20.0, 90.0), (7.3, 135.0)]
+)
+def test_motion_kernel_geometry(length: float, angle: float) -> None:
+    kernel = motion_kernel(length, angle)
+    assert kernel.sum() == pytest.approx(1.0)
+    assert kernel.shape[0] % 2 == 1 and kernel.shape[0] == kernel.shape[1]
+    rows, cols = np.indices(kernel.shape)
+    centre = kernel.shape[0] // 2
+    x, y = cols - centre, -(rows - centre)  # y up
+    assert (kernel * x).sum() == pytest.approx(0, abs=1e-9)  # centred
+    assert (kernel * y).sum() == pytest.approx(0, abs=1e-9)
+    # second moment along the direction: a uniform segment of length L has variance L^2 / 12
+    # (plus 1/6 from the bilinear splat)
+    theta = np.radians(angle)
+    along = x * np.cos(theta) + y * np.sin(theta)
+    across = -x * np.sin(theta) + y * np.cos(theta)
+    assert (kernel * along**2).sum() == pytest.approx(length**2 / 12, rel=0.05, abs=0.2)
+    assert (kernel * across**2).sum() < 0.35
+
+
+def test_trajectory_kernel_of_a_straight_path_is_the_linear_kernel() -> None:
+    path = np.column_stack([np.linspace(-6, 6, 50), np.zeros(50)])
+    np.testing.assert_allclose(
+        trajectory_kernel(path, size=15), motion_kernel(12, 0, size=15), atol=2e-3
+    )
+    # trajectories are in image coordinates (y down): right-and-down is -45°, i.e. 135° (y up)
+    diagonal = np.column_stack([np.linspace(-4, 4, 30), np.linspace(-4, 4, 30)])
+    np.testing.assert_allclose(
+        trajectory_kernel(diagonal, size=15), motion_kernel(8 * np.sqrt(2), 135, size=15), atol=3e-3
+    )
+
+
+def test_blur_model_wrap_equals_fft_convolution() -> None:
+    rng = np.random.default_rng(0)
+    image = rng.random((32, 40))
+    kernel = motion_kernel(7, 20)
+    blurred = blur_image(image, kernel, boundary="wrap")
+    padded = np.zeros_like(image)
+    k = kernel.shape[0]
+    padded[:k, :k] = kernel
+    padded = np.roll(padded, (-(k // 2), -(k // 2)), axis=(0, 1))
+    expected = np.real(np.fft.ifft2(np.fft.fft2(image) * np.fft.fft2(padded)))
+    np.testing.assert_allclose(blurred, expected, atol=1e-10)
+
+
+def test_blur_model_adds_noise_of_the_given_sigma() -> None:
+    image = np.full((200, 200), 0.5)
+    noisy = blur_image(image, motion_kernel(5, 0), 0.02, rng=np.random.default_rng(1))
+    assert noisy.std() == pytest.approx(0.02, rel=0.05)
+
+
+def test_spectrum_shows_sinc_zeros() -> None:
+    image = to_gray(skimage.data.camera())
+    blurred = blur_image(image, motion_kernel(16, 0))
+    spectrum = log_power_spectrum(blurred)
+    centre = spectrum.shape[0] // 2
+    row = spectrum[centre - 3 : centre + 4].mean(axis=0)  # along the horizontal motion
+    zero = centre + spectrum.shape[0] // 16  # first zero at N / L bins
+    assert row[zero] < row[zero - 8] - 2 and row[zero] < row[zero + 8] - 1
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.005])
+def test_blind_estimate_of_linear_blur(noise: float) -> None:
+    rng = np.random.default_rng(42)
+    images = [to_gray(getattr(skimage.data, n)()) for n in ("camera", "astronaut", "coffee")]
+    angle_errors, length_errors = [], []
+    for index in range(9):
+        length, angle = rng.uniform(7, 27), rng.uniform(0, 180)
+        blurred = blur_image(images[index % 3], motion_kernel(length, angle), noise, rng=rng)
+        estimate = estimate_motion_blur(blurred)
+        angle_errors.append(angle_error(estimate.angle_deg, angle))
+        length_errors.append(abs(estimate.length_px - length))
+        assert 0 <= estimate.angle_deg < 180
+    assert np.median(angle_errors) <= 1.5
+    assert np.median(length_errors) <= 1.0
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda: motion_kernel(0, 10), "length must be > 0"),
+        (lambda: motion_kernel(-3, 10), "length must be > 0"),
+        (lambda: blur_image(np.ones((8, 8)), motion_kernel(20, 0)), "larger than the image"),
+        (lambda: blur_image(np.ones((8, 8)), np.array([[1.0, -1.0]])), "sums to 0"),
+        (lambda: blur_image(np.full((8, 8), np.nan), motion_kernel(3, 0)), "NaN or inf"),
+        (lambda: blur_image(np.ones((1, 1)), np.ones((1, 1))), "at least 2x2"),
+        (lambda: blur_image(np.ones((0, 5)), np.ones((1, 1))), "at least 2x2"),
+        (lambda: blur_image(np.ones((8, 8), np.int64), motion_kernel(3, 0)), "unsupported dtype"),
+        (lambda: blur_image(np.ones((8, 8)), motion_kernel(3, 0), boundary="zero"), "boundary"),
+    ],
+    ids=[
+        "zero-length",
+        "negative-length",
+        "kernel-too-large",
+        "zero-sum",
+        "nan",
+        "one-pixel",
+        "empty",
+        "int64",
+        "bad-boundary",
+    ],
+)
+def test_bad_input_is_refused(call, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        call()

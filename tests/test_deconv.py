@@ -1,0 +1,134 @@
+"""Inverse and Wiener deconvolution, noise estimation, and the PSNR / SSIM metrics."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import skimage.data
+from skimage.metrics import peak_signal_noise_ratio, structural_similarity
+
+from blurloc.blur import blur_image, motion_kernel, to_gray, trajectory_kernel
+from blurloc.deconv import estimate_noise_sigma, inverse_filter, wiener_deconvolve
+from blurloc.metrics import psnr, ssim
+
+
+def well_posed_kernel() -> np.ndarray:
+    """An asymmetric shake kernel (so conj(C) and centring matter) with no spectral zeros:
+    half of the exposure still, half along an L-shaped path."""
+    path = trajectory_kernel(np.array([[0, 0], [5, 2], [9, 7]]))
+    still = np.zeros_like(path)
+    still[path.shape[0] // 2, path.shape[1] // 2] = 1.0
+    return 0.5 * still + 0.5 * path
+
+
+def test_noise_free_blur_is_undone_in_the_interior() -> None:
+    image = to_gray(skimage.data.camera())[100:356, 100:356]
+    kernel = well_posed_kernel()
+    blurred = blur_image(image, kernel, boundary="reflect")
+    restored = wiener_deconvolve(blurred, kernel, nsr=1e-7)
+    interior = (slice(20, -20), slice(20, -20))
+    quality = psnr(image[interior], restored[interior], data_range=1.0)
+    assert quality >= 40.0
+    mirrored = wiener_deconvolve(blurred, kernel[::-1, ::-1], nsr=1e-7)  # conj(C) <-> C
+    assert psnr(image[interior], mirrored[interior], data_range=1.0) < quality - 5.0
+
+
+def test_inverse_filter_undoes_a_kernel_without_zeros() -> None:
+    rng = np.random.default_rng(0)
+    image = rng.random((64, 64))
+    kernel = well_posed_kernel()
+    restored = inverse_filter(blur_image(image, kernel, boundary="reflect"), kernel)
+    assert psnr(image[20:-20, 20:-20], restored[20:-20, 20:-20], 1.0) > 40
+
+
+def test_wiener_beats_the_inverse_filter_under_noise() -> None:
+    image = to_gray(skimage.data.astronaut())[::2, ::2]
+    kernel = motion_kernel(11, 30)
+    blurred = blur_image(image, kernel, 0.01, rng=np.random.default_rng(3))
+    wiener = np.clip(wiener_deconvolve(blurred, kernel), 0, 1)
+    inverse = np.clip(inverse_filter(blurred, kernel), 0, 1)
+    assert psnr(image, wiener, 1.0) > psnr(image, blurred.clip(0, 1), 1.0) + 1.0
+    assert psnr(image, wiener, 1.0) > psnr(image, inverse, 1.0) + 5.0
+
+
+def test_rgb_and_dtypes_are_kept() -> None:
+    image = skimage.data.coffee()[:120, :160]
+    kernel = motion_kernel(5, 60)
+    out = wiener_deconvolve(image, kernel, nsr=0.01)
+    assert out.dtype == np.uint8 and out.shape == image.shape
+    as_float = wiener_deconvolve(image.astype(np.float32) / 255, kernel, nsr=0.01)
+    assert as_float.dtype == np.float32
+    # per channel: the red channel alone gives the red channel of the RGB result
+    red = wiener_deconvolve(image[..., 0].astype(np.float64) / 255, kernel, nsr=0.01)
+    np.testing.assert_allclose(as_float[..., 0], red, atol=1e-5)
+
+
+def test_noise_estimate() -> None:
+    image = blur_image(
+        to_gray(skimage.data.camera()), motion_kernel(9, 10), 0.02, rng=np.random.default_rng(4)
+    )
+    assert estimate_noise_sigma(image) == pytest.approx(0.02, rel=0.15)
+
+
+@pytest.mark.parametrize("channels", [None, 3])
+def test_metrics_equal_scikit_image(channels: int | None) -> None:
+    rng = np.random.default_rng(7)
+    shape = (48, 64) if channels is None else (48, 64, 3)
+    a = rng.random(shape)
+    b = np.clip(a + rng.normal(0, 0.1, shape), 0, 1)
+    assert psnr(a, b, 1.0) == pytest.approx(peak_signal_noise_ratio(a, b, data_range=1.0))
+    expected = structural_similarity(
+        a,
+        b,
+        data_range=1.0,
+        gaussian_weights=True,
+        sigma=1.5,
+        use_sample_covariance=False,
+        channel_axis=2 if channels else None,
+    )
+    assert ssim(a, b, 1.0) == pytest.approx(expected)
+    uint8_a, uint8_b = (a * 255).round().astype(np.uint8), (b * 255).round().astype(np.uint8)
+    assert psnr(uint8_a, uint8_b, 255) == pytest.approx(
+        peak_signal_noise_ratio(uint8_a, uint8_b, data_range=255)
+    )
+    assert psnr(a, a, 1.0) == float("inf")
+    assert ssim(a, a, 1.0) == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (
+            lambda: wiener_deconvolve(np.ones((16, 16)), motion_kernel(3, 0), nsr=0),
+            "nsr must be > 0",
+        ),
+        (
+            lambda: wiener_deconvolve(np.ones((16, 16)), motion_kernel(3, 0), nsr=-1),
+            "nsr must be > 0",
+        ),
+        (lambda: wiener_deconvolve(np.ones((16, 16)), np.zeros((3, 3)), nsr=0.1), "sums to 0"),
+        (lambda: wiener_deconvolve(np.ones((4, 4)), motion_kernel(9, 0), nsr=0.1), "larger"),
+        (
+            lambda: wiener_deconvolve(np.array([[np.inf, 0], [0, 0]]), np.ones((1, 1)), nsr=0.1),
+            "NaN or inf",
+        ),
+        (lambda: wiener_deconvolve(np.ones((1, 5)), np.ones((1, 1)), nsr=0.1), "at least 2x2"),
+        (lambda: wiener_deconvolve(np.ones((5, 5), bool), np.ones((1, 1)), nsr=0.1), "dtype"),
+        (lambda: psnr(np.ones((4, 4)), np.ones((4, 5)), 1.0), "differ in shape"),
+        (lambda: psnr(np.ones((4, 4)), np.ones((4, 4)), 0), "data_range"),
+    ],
+    ids=[
+        "nsr-zero",
+        "nsr-negative",
+        "kernel-zero-sum",
+        "kernel-too-large",
+        "inf",
+        "one-row",
+        "bool",
+        "shape-mismatch",
+        "data-range",
+    ],
+)
+def test_bad_input_is_refused(call, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        call()
