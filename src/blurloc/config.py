@@ -7,7 +7,6 @@ import random
 from pathlib import Path
 
 import numpy as np
-import torch
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 REPO_ROOT = PACKAGE_DIR.parent.parent
@@ -32,6 +31,8 @@ def resolve_dir(path: str | os.PathLike | None, default: Path) -> Path:
 
 def seed_everything(seed: int) -> None:
     """Seed Python, NumPy and torch so that the same seed gives the same numbers on CPU."""
+    import torch  # here, so that commands that never touch torch start fast
+
     random.seed(seed)
     np.random.seed(seed)  # noqa: NPY002 (the global generator, for code that still uses it)
     torch.manual_seed(seed)
