@@ -52,8 +52,10 @@ def main() -> None:
     for _ in range(args.repeats):
         wiener_deconvolve(sample8, estimate.kernel())
     wiener_ms = (time.perf_counter() - start) / args.repeats * 1000
-    print(f"per 640x480 RGB frame: estimation {estimate_ms:.1f} ms, Wiener {wiener_ms:.1f} ms, "
-          f"together {estimate_ms + wiener_ms:.1f} ms (target <= 30 ms)")
+    print(
+        f"per 640x480 RGB frame: estimation {estimate_ms:.1f} ms, Wiener {wiener_ms:.1f} ms, "
+        f"together {estimate_ms + wiener_ms:.1f} ms (target <= 30 ms)"
+    )
 
     rows = []
     for name in PHOTOS[: args.images]:
@@ -63,14 +65,26 @@ def main() -> None:
         ours = np.clip(wiener_deconvolve(blurred, kernel), 0, 1)
         swept = [np.clip(wiener(blurred, kernel, b, clip=False), 0, 1) for b in BALANCES]
         best = max(swept, key=lambda image: psnr(sharp, image, 1.0))
-        unsupervised = np.clip(unsupervised_wiener(blurred, kernel, clip=False,
-                                                   rng=np.random.default_rng(0))[0], 0, 1)
-        rows.append([f(sharp, image, 1.0) for image in (np.clip(blurred, 0, 1), ours, best,
-                                                          unsupervised) for f in (psnr, ssim)])
+        unsupervised = np.clip(
+            unsupervised_wiener(blurred, kernel, clip=False, rng=np.random.default_rng(0))[0], 0, 1
+        )
+        rows.append(
+            [
+                f(sharp, image, 1.0)
+                for image in (np.clip(blurred, 0, 1), ours, best, unsupervised)
+                for f in (psnr, ssim)
+            ]
+        )
     mean = np.mean(rows, axis=0)
     print(f"non-blind, σ = 0.01, {len(rows)} images (gray 640x480), PSNR dB / SSIM:")
-    for index, label in enumerate(("blurred input", "blurloc Wiener (estimated NSR)",
-                                   "skimage wiener (best balance)", "skimage unsupervised_wiener")):
+    for index, label in enumerate(
+        (
+            "blurred input",
+            "blurloc Wiener (estimated NSR)",
+            "skimage wiener (best balance)",
+            "skimage unsupervised_wiener",
+        )
+    ):
         print(f"  {label:32s} {mean[2 * index]:6.2f} / {mean[2 * index + 1]:.3f}")
     print(f"  gain over skimage wiener: {mean[2] - mean[4]:+.2f} dB (target >= +1 dB)")
 

@@ -100,10 +100,11 @@ def quaternion_to_rotation(quaternion: np.ndarray) -> np.ndarray:
 
 
 def rotation_angle_deg(rotation_a: np.ndarray, rotation_b: np.ndarray) -> np.ndarray:
-    """Angle (degrees) of the rotation taking ``rotation_a`` to ``rotation_b`` (paper eq. 13)."""
+    """Angle (degrees) of the rotation taking ``rotation_a`` to ``rotation_b``: the α of eq. 13
+    (2 cos α = trace(R_a^T R_b) - 1), taken from the rotation vector, which stays precise for
+    the small angles between consecutive frames where arccos of the trace does not."""
     relative = np.swapaxes(np.asarray(rotation_a, float), -1, -2) @ np.asarray(rotation_b, float)
-    cosine = (np.trace(relative, axis1=-2, axis2=-1) - 1.0) / 2.0
-    return np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
+    return np.degrees(Rotation.from_matrix(relative).magnitude())
 
 
 def frame_to_frame_motion(poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -11,6 +11,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from .data.sevenscenes import SPLIT_FILES, list_scenes, load_split, read_image
+from .data.synth import path_lengths
 
 SPLIT_COLOURS = {"train": "#1f77b4", "test": "#d62728"}
 STYLE = {
@@ -97,7 +98,7 @@ def plot_exposure(
     axes[count].axis("off")
     axis = axes[count + 1]
     axis.imshow(np.full_like(blurred, 255))
-    length = np.linalg.norm(np.diff(tracks, axis=0), axis=2).sum(axis=0)
+    length = path_lengths(tracks)
     colours = plt.cm.viridis(length / max(length.max(), 1e-9))
     for point in range(tracks.shape[1]):
         axis.plot(tracks[:, point, 0], tracks[:, point, 1], color=colours[point], lw=1.2)

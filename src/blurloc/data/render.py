@@ -102,13 +102,6 @@ class Quad:
         if abs(u @ v) > 1e-9 * np.linalg.norm(u) * np.linalg.norm(v):
             raise ValueError("quad edges must be perpendicular")
 
-    @property
-    def center(self) -> np.ndarray:
-        """The quad's centre (world, metres)."""
-        return (
-            np.asarray(self.origin) + 0.5 * np.asarray(self.edge_u) + 0.5 * np.asarray(self.edge_v)
-        )
-
 
 @dataclass(frozen=True)
 class Light:

@@ -101,6 +101,12 @@ def read_split(scene_dir: str | os.PathLike, split: str) -> list[int]:
     return numbers
 
 
+def frame_path(folder: Path, frame_id: int, kind: str) -> Path:
+    """``folder/frame-XXXXXX.<kind>.png`` (``.pose.txt`` for kind ``pose``)."""
+    suffix = "pose.txt" if kind == "pose" else f"{kind}.png"
+    return folder / f"frame-{frame_id:06d}.{suffix}"
+
+
 @dataclass(frozen=True)
 class SequenceFrames:
     """The ordered frames of one sequence folder ``<scene>/seq-XX``."""
@@ -112,8 +118,7 @@ class SequenceFrames:
 
     def path(self, frame_id: int, kind: str = "color") -> Path:
         """File of a frame: kind ``color``, ``sharp`` or ``depth`` (PNG), or ``pose`` (txt)."""
-        suffix = "pose.txt" if kind == "pose" else f"{kind}.png"
-        return self.folder / f"frame-{frame_id:06d}.{suffix}"
+        return frame_path(self.folder, frame_id, kind)
 
     def __len__(self) -> int:
         return len(self.frame_ids)
@@ -121,10 +126,6 @@ class SequenceFrames:
     def poses(self) -> np.ndarray:
         """All camera-to-world poses (N, 4, 4), validated."""
         return np.stack([read_pose(self.path(i, "pose")) for i in self.frame_ids])
-
-    def has(self, kind: str) -> bool:
-        """Whether every frame has a file of ``kind`` (e.g. the stand-in's ``sharp``)."""
-        return all(self.path(i, kind).is_file() for i in self.frame_ids)
 
 
 def list_sequence(scene_dir: str | os.PathLike, number: int) -> SequenceFrames:
@@ -142,8 +143,7 @@ def list_sequence(scene_dir: str | os.PathLike, number: int) -> SequenceFrames:
         raise DataError(f"{folder}: sequence holds no frames")
     for frame_id in sorted(colours ^ poses):
         kind = "pose" if frame_id in colours else "color"
-        path = folder / f"frame-{frame_id:06d}.{'pose.txt' if kind == 'pose' else 'color.png'}"
-        raise DataError(f"{path}: {kind} file is missing")
+        raise DataError(f"{frame_path(folder, frame_id, kind)}: {kind} file is missing")
     return SequenceFrames(scene_dir.name, number, folder, tuple(sorted(colours)))
 
 

@@ -33,7 +33,14 @@ from scipy.ndimage import gaussian_filter1d
 from scipy.spatial.transform import Rotation
 from tqdm.auto import tqdm
 
-from ..geometry import backproject, intrinsics, look_at, make_pose, project
+from ..geometry import (
+    backproject,
+    frame_to_frame_motion,
+    intrinsics,
+    look_at,
+    make_pose,
+    project,
+)
 from .render import Scene, linear_to_srgb, render
 from .scenes import SCENE_NAMES, SEQUENCE_COUNTS, make_scene
 
@@ -156,11 +163,8 @@ class HandheldTrajectory:
 
         frame_times = np.arange(int(np.rint(span * config.fps))) / config.fps
         for _ in range(3):  # the angle scale is nearly linear: a few rescalings converge
-            poses = self.poses(frame_times)
-            steps = np.linalg.norm(np.diff(poses[:, :3, 3], axis=0), axis=1)
+            steps, turns = frame_to_frame_motion(self.poses(frame_times))
             self._position_offset *= config.step_median_m / np.median(steps)
-            relative = np.swapaxes(poses[:-1, :3, :3], 1, 2) @ poses[1:, :3, :3]
-            turns = np.degrees(Rotation.from_matrix(relative).magnitude())
             self._angle_offset *= config.rotation_median_deg / np.median(turns)
 
     def poses(self, times: np.ndarray) -> np.ndarray:
@@ -189,15 +193,27 @@ class BlurInfo:
     samples: int
 
 
+def path_lengths(track: np.ndarray) -> np.ndarray:
+    """Length (px) of each point's image path; ``track`` is (samples, points, 2)."""
+    return np.linalg.norm(np.diff(track, axis=0), axis=2).sum(axis=0)
+
+
+def displacement_angles(track: np.ndarray) -> np.ndarray:
+    """Direction of each point's start-to-end displacement, degrees in [0, 180), y up."""
+    dx = track[-1, :, 0] - track[0, :, 0]
+    dy = -(track[-1, :, 1] - track[0, :, 1])  # image rows grow downwards; angles use y up
+    return np.degrees(np.arctan2(dy, dx)) % 180.0
+
+
 def blur_from_motion(track: np.ndarray) -> tuple[float, float, float]:
     """Blur extent and direction from image tracks (samples, points, 2) over one exposure.
 
     Returns the mean and max over points of each point's path length, and the dominant
     direction (principal axis of the start-to-end displacements, degrees, y up).
     """
-    path = np.linalg.norm(np.diff(track, axis=0), axis=2).sum(axis=0)
+    path = path_lengths(track)
     dx = track[-1, :, 0] - track[0, :, 0]
-    dy = -(track[-1, :, 1] - track[0, :, 1])  # image rows grow downwards; angles use y up
+    dy = -(track[-1, :, 1] - track[0, :, 1])
     angle = 0.5 * np.degrees(np.arctan2(2 * (dx * dy).sum(), (dx * dx - dy * dy).sum()))
     return float(path.mean()), float(path.max()), float(angle % 180.0)
 
