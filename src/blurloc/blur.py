@@ -127,9 +127,15 @@ def blur_image(
 
 
 def to_gray(image: np.ndarray) -> np.ndarray:
-    """Float gray image in [0, 1] (mean of the channels of an RGB image)."""
-    image = as_float_image(image)
-    return image.mean(axis=2) if image.ndim == 3 else image
+    """Float gray image in [0, 1] (mean of the channels of an RGB image); float32 unless the
+    input is float64."""
+    image = check_image(image)
+    dtype = np.float64 if image.dtype == np.float64 else np.float32
+    scale = 1.0 / 255.0 if image.dtype == np.uint8 else 1.0
+    if image.ndim == 2:
+        return image.astype(dtype) * dtype(scale)
+    weights = np.full((1, 3), scale / 3.0)
+    return cv2.transform(image.astype(dtype), weights)
 
 
 def log_power_spectrum(image: np.ndarray, window: int = 256) -> np.ndarray:
@@ -151,10 +157,57 @@ def log_power_spectrum(image: np.ndarray, window: int = 256) -> np.ndarray:
         for r in range(0, gray.shape[0] - size + 1, step)
         for c in range(0, gray.shape[1] - size + 1, step)
     ]
-    stack = np.stack(tiles)
-    stack = (stack - stack.mean(axis=(1, 2), keepdims=True)) * hann
-    power = (np.abs(scipy.fft.fft2(stack, workers=-1)) ** 2).mean(axis=0)
+    stack = np.stack(tiles).astype(np.float32)
+    stack = (stack - stack.mean(axis=(1, 2), keepdims=True)) * hann.astype(np.float32)
+    half = (np.abs(scipy.fft.rfft2(stack, workers=-1)) ** 2).mean(axis=0, dtype=np.float64)
+    power = np.empty((size, size))  # the other half by symmetry: P(-f) = P(f) for real tiles
+    power[:, : size // 2 + 1] = half
+    power[:, size // 2 + 1 :] = half[(-np.arange(size)) % size, size // 2 - 1 : 0 : -1]
     return np.fft.fftshift(np.log(power + 1e-12))
+
+
+#: Frequency bands of :func:`blur_score`, in cycles per pixel.
+MID_BAND = (0.03, 0.10)
+HIGH_BAND = (0.25, 0.40)
+#: Score above which :func:`detect_blur` calls an image blurred. Calibrated by
+#: :func:`calibrate_blur_threshold` on the stand-in's training split (notebook 01 recomputes it).
+BLUR_THRESHOLD = 4.82
+
+
+def blur_score(image: np.ndarray, window: int = 256) -> float:
+    """Spectral fall-off: ln(mean power in MID_BAND / mean power in HIGH_BAND) of the Welch log
+    spectrum. Blur removes high frequencies, so the score grows with blur (natural sharp images,
+    whose power falls as 1/f^2, score about 2 ln(0.32 / 0.065) ~ 3)."""
+    power = np.exp(log_power_spectrum(image, window))
+    size = power.shape[0]
+    fy, fx = np.mgrid[-(size // 2) : size - size // 2, -(size // 2) : size - size // 2]
+    radius = np.hypot(fx, fy) / size
+
+    def band(limits: tuple[float, float]) -> float:
+        return float(power[(radius >= limits[0]) & (radius < limits[1])].mean())
+
+    return float(np.log(band(MID_BAND) / band(HIGH_BAND)))
+
+
+def detect_blur(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> tuple[bool, float]:
+    """Whether ``image`` is motion-blurred (its :func:`blur_score` exceeds ``threshold``), and
+    the score."""
+    score = blur_score(image)
+    return score > threshold, score
+
+
+def calibrate_blur_threshold(scores: np.ndarray, blurred: np.ndarray) -> float:
+    """The threshold that maximises balanced accuracy (mean of the true-positive and
+    true-negative rates) on labelled scores: midway between the two scores around the cut."""
+    scores, blurred = np.asarray(scores, float), np.asarray(blurred, bool)
+    if blurred.all() or not blurred.any():
+        raise ValueError("calibration needs both blurred and sharp examples")
+    candidates = np.sort(scores)
+    cuts = (candidates[:-1] + candidates[1:]) / 2
+    accuracy = [
+        ((scores[blurred] > c).mean() + (scores[~blurred] <= c).mean()) / 2 for c in cuts
+    ]
+    return float(cuts[int(np.argmax(accuracy))])
 
 
 @dataclass(frozen=True)
@@ -184,15 +237,15 @@ def _whiten(log_spectrum: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarra
 def _profile(
     values: np.ndarray, fx: np.ndarray, fy: np.ndarray, angle_rad: float, resolution: float = 0.5
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Mean of spectrum ``values`` (at frequencies fx, fy in bins) along lines perpendicular to
-    direction ``angle_rad`` (x right, y down), against the distance r (bins) along it: the
-    Radon projection of the spectrum onto that direction."""
-    index = np.rint((fx * np.cos(angle_rad) + fy * np.sin(angle_rad)) / resolution).astype(int)
-    offset = index.min()
-    counts = np.bincount(index - offset)
-    sums = np.bincount(index - offset, values)
+    """Mean of spectrum ``values`` (at frequencies fx, fy in bins, one half-plane) along lines
+    perpendicular to direction ``angle_rad`` (x right, y down), against the distance |r| (bins)
+    along it: the Radon projection of the (symmetric) spectrum onto that direction, folded."""
+    index = np.rint(np.abs(fx * np.cos(angle_rad) + fy * np.sin(angle_rad)) / resolution)
+    index = index.astype(int)
+    counts = np.bincount(index)
+    sums = np.bincount(index, values)
     keep = counts > 0
-    return (np.arange(counts.size)[keep] + offset) * resolution, sums[keep] / counts[keep]
+    return np.arange(counts.size)[keep] * resolution, sums[keep] / counts[keep]
 
 
 _ANGLE_STEPS_DEG = (3.0, 0.5, 0.1)  # coarse-to-fine search of the motion direction
@@ -225,7 +278,9 @@ def _analyse(gray: np.ndarray, window: int) -> tuple[float, float, float]:
     size = spectrum.shape[0]
     whitened, fx, fy = _whiten(spectrum)
     radius = np.hypot(fx, fy)
-    mask = (radius >= 2) & (radius <= 0.9 * size / 2)
+    # the spectrum of a real image is symmetric: one half-plane holds all of it
+    upper = (fy > 0) | ((fy == 0) & (fx > 0))
+    mask = (radius >= 2) & (radius <= 0.9 * size / 2) & upper
     values, fx, fy = whitened[mask], fx[mask].astype(float), fy[mask].astype(float)
 
     def spread(angle: float) -> float:

@@ -6,6 +6,7 @@ import argparse
 import json
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from .config import DEFAULT_SEED
 
@@ -52,6 +53,94 @@ def _run_notebooks(args: argparse.Namespace) -> int:
     return 0
 
 
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
+
+
+def _read_image(path: Path):
+    from .data import read_image
+
+    return read_image(path)
+
+
+def _blur_estimate(args: argparse.Namespace) -> int:
+    from .blur import detect_blur, estimate_motion_blur
+
+    for name in args.images:
+        image = _read_image(Path(name))
+        try:
+            blurred, score = detect_blur(image)
+            estimate = estimate_motion_blur(image)
+        except ValueError as error:
+            raise ValueError(f"{name}: {error}") from error
+        print(json.dumps({
+            "path": name, "blurred": bool(blurred), "score": round(score, 4),
+            "length_px": round(estimate.length_px, 2), "angle_deg": round(estimate.angle_deg, 2),
+        }))  # fmt: skip
+    return 0
+
+
+def _load_kernel(path: Path):
+    import numpy as np
+
+    from .blur import check_kernel
+
+    if not path.is_file():
+        raise ValueError(f"{path}: kernel file is missing")
+    if path.suffix == ".npy":
+        kernel = np.load(path, allow_pickle=False)
+    else:
+        import cv2
+
+        kernel = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE | cv2.IMREAD_ANYDEPTH)
+        if kernel is None:
+            raise ValueError(f"{path}: kernel image cannot be read")
+    try:
+        return check_kernel(kernel)
+    except ValueError as error:
+        raise ValueError(f"{path}: {error}") from error
+
+
+def _deblur(args: argparse.Namespace) -> int:
+    import cv2
+
+    from .blur import motion_kernel
+    from .deconv import deblur_blind, wiener_deconvolve
+
+    source, target = Path(args.input), Path(args.output)
+    if (args.length is None) != (args.angle is None):
+        raise ValueError("give both --length and --angle, or neither")
+    if args.kernel and args.length is not None:
+        raise ValueError("give --kernel or --length/--angle, not both")
+    if args.nsr is not None and args.nsr <= 0:
+        raise ValueError(f"--nsr must be > 0, got {args.nsr}")
+    kernel = None
+    if args.kernel:
+        kernel = _load_kernel(Path(args.kernel))
+    elif args.length is not None:
+        kernel = motion_kernel(args.length, args.angle)
+    if source.is_dir():
+        pairs = [(p, target / p.name) for p in sorted(source.iterdir())
+                 if p.suffix.lower() in IMAGE_SUFFIXES]  # fmt: skip
+        if not pairs:
+            raise ValueError(f"{source}: no images in this folder")
+        target.mkdir(parents=True, exist_ok=True)
+    elif source.is_file():
+        pairs = [(source, target)]
+    else:
+        raise ValueError(f"{source}: no such file or folder")
+    for path_in, path_out in pairs:
+        image = _read_image(path_in)
+        try:
+            restored = (deblur_blind(image, args.nsr) if kernel is None
+                        else wiener_deconvolve(image, kernel, args.nsr))  # fmt: skip
+        except ValueError as error:
+            raise ValueError(f"{path_in}: {error}") from error
+        if not cv2.imwrite(str(path_out), restored[..., ::-1]):
+            raise ValueError(f"{path_out}: cannot write this image (folder or suffix?)")
+        print(path_out)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every subcommand."""
     parser = argparse.ArgumentParser(prog="blurloc", description=__doc__)
@@ -75,6 +164,23 @@ def build_parser() -> argparse.ArgumentParser:
     check = commands.add_parser("check-data", help="validate a 7-Scenes-layout root, print counts")
     check.add_argument("root")
     check.set_defaults(handler=_check_data)
+
+    estimate = commands.add_parser(
+        "blur-estimate", help="detect motion blur, estimate its length and angle (JSON lines)"
+    )
+    estimate.add_argument("images", nargs="+", help="image files")
+    estimate.set_defaults(handler=_blur_estimate)
+
+    deblur = commands.add_parser(
+        "deblur", help="Wiener deblurring of an image or a folder (blind without a kernel)"
+    )
+    deblur.add_argument("input", help="image file, or folder of images")
+    deblur.add_argument("output", help="image file, or folder (same names as in the input)")
+    deblur.add_argument("--kernel", help="blur kernel as .npy or a gray image (normalised)")
+    deblur.add_argument("--length", type=float, help="linear motion blur length, px")
+    deblur.add_argument("--angle", type=float, help="its angle, degrees CCW from horizontal")
+    deblur.add_argument("--nsr", type=float, help="noise-to-signal ratio (default: estimated)")
+    deblur.set_defaults(handler=_deblur)
 
     run = commands.add_parser("run-notebooks", help="run the notebooks in order with papermill")
     run.add_argument("--quick", action="store_true", help="small sizes (as in the tests)")

@@ -87,3 +87,33 @@ def read_blur_metadata(root: str | os.PathLike) -> list[dict]:
                             "samples": int(record["samples"]),
                         })  # fmt: skip
     return rows
+
+
+def blur_detection_samples(
+    root: str | os.PathLike, split: str, min_blur_px: float = 3.0, every: int = 1
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Detector scores of a stand-in split: every ``every``-th frame's blurred image (labelled
+    blurred when its mean blur extent is >= ``min_blur_px``; frames with less blur are left out)
+    and its sharp render (labelled sharp). Returns scores, labels (True = blurred) and the blur
+    extents (0 for sharp renders)."""
+    from ..blur import blur_score
+    from .sevenscenes import read_image
+
+    extents = {
+        (row["scene"], row["sequence"], row["frame"]): row["mean_px"]
+        for row in read_blur_metadata(root)
+        if row["split"] == split
+    }
+    scores, labels, lengths = [], [], []
+    for scene in list_scenes(root):
+        for sequence in load_split(root, scene, split):
+            for frame in sequence.frame_ids[::every]:
+                extent = extents[(scene, sequence.number, frame)]
+                scores.append(blur_score(read_image(sequence.path(frame, "sharp"))))
+                labels.append(False)
+                lengths.append(0.0)
+                if extent >= min_blur_px:
+                    scores.append(blur_score(read_image(sequence.path(frame, "color"))))
+                    labels.append(True)
+                    lengths.append(extent)
+    return np.array(scores), np.array(labels), np.array(lengths)

@@ -1,0 +1,143 @@
+"""Measurements behind notebooks 01 and 02: blind-estimation accuracy on natural photographs,
+and per-frame PSNR/SSIM of single-image deblurring methods on a stand-in split."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterable
+
+import numpy as np
+import skimage.data
+from skimage.restoration import richardson_lucy, unsupervised_wiener, wiener
+from tqdm.auto import tqdm
+
+from .blur import blur_image, detect_blur, estimate_motion_blur, motion_kernel
+from .data.sevenscenes import list_scenes, load_split, read_image
+from .deconv import MIN_BLUR_PX, wiener_deconvolve
+from .images import as_float_image
+from .metrics import psnr, ssim
+
+#: scikit-image's bundled photographs used as natural test content (gray, [0, 1]).
+PHOTOS = ("astronaut", "camera", "coffee", "chelsea", "rocket", "brick", "grass", "gravel",
+          "immunohistochemistry", "hubble_deep_field", "coins", "moon", "clock", "retina",
+          "cell")  # fmt: skip
+
+
+def photo_crops(count: int, size: int = 256, seed: int = 0) -> list[np.ndarray]:
+    """``count`` random ``size`` x ``size`` gray crops ([0, 1] float) of scikit-image's photos,
+    cycling through PHOTOS."""
+    rng = np.random.default_rng(seed)
+    crops = []
+    for index in range(count):
+        photo = as_float_image(getattr(skimage.data, PHOTOS[index % len(PHOTOS)])())
+        gray = photo.mean(axis=2) if photo.ndim == 3 else photo
+        if min(gray.shape) < size:
+            raise ValueError(f"photo {PHOTOS[index % len(PHOTOS)]} is smaller than {size} px")
+        row = rng.integers(0, gray.shape[0] - size + 1)
+        col = rng.integers(0, gray.shape[1] - size + 1)
+        crops.append(gray[row : row + size, col : col + size])
+    return crops
+
+
+def angle_error_deg(a: float | np.ndarray, b: float | np.ndarray) -> np.ndarray:
+    """Smallest difference between two line directions (degrees, modulo 180)."""
+    difference = np.abs(np.asarray(a) - np.asarray(b)) % 180.0
+    return np.minimum(difference, 180.0 - difference)
+
+
+def estimation_trials(
+    images: list[np.ndarray],
+    lengths: Iterable[float],
+    noise_sigmas: Iterable[float],
+    seed: int = 0,
+    progress: bool = False,
+) -> list[dict]:
+    """Blur every image by a linear kernel of each length at a random angle, add Gaussian noise
+    of each sigma, estimate length and angle blindly. One row per trial: image, length_px,
+    angle_deg, noise_sigma, estimated length and angle, their errors (px, degrees)."""
+    rng = np.random.default_rng(seed)
+    trials = [(i, float(L), float(s)) for i in range(len(images)) for L in lengths
+              for s in noise_sigmas]  # fmt: skip
+    rows = []
+    for index, length, sigma in tqdm(trials, disable=not progress, desc="estimation"):
+        angle = float(rng.uniform(0, 180))
+        blurred = blur_image(images[index], motion_kernel(length, angle), sigma, rng=rng)
+        estimate = estimate_motion_blur(blurred)
+        rows.append({
+            "image": index, "length_px": length, "angle_deg": angle, "noise_sigma": sigma,
+            "estimated_length_px": estimate.length_px, "estimated_angle_deg": estimate.angle_deg,
+            "length_error_px": abs(estimate.length_px - length),
+            "angle_error_deg": float(angle_error_deg(estimate.angle_deg, angle)),
+        })  # fmt: skip
+    return rows
+
+
+def _per_channel(restore: Callable[[np.ndarray], np.ndarray], image: np.ndarray) -> np.ndarray:
+    return np.dstack([restore(image[..., c]) for c in range(image.shape[2])])
+
+
+def deblurring_methods(
+    skimage_balance: float, rl_iterations: int = 10, seed: int = 0
+) -> dict[str, Callable[[np.ndarray, np.ndarray | None], np.ndarray]]:
+    """Single-image methods compared in notebook 02, as functions (image, kernel) -> image on
+    float [0, 1] RGB. ``kernel`` is the blind estimate (None when the detector found no blur,
+    and then every method returns its input). ``blind_wiener`` is this package's eq. 4 with the
+    NSR estimated from the noise; scikit-image's are fed the same kernel."""
+    rng = np.random.default_rng(seed)
+
+    def skip_if_sharp(method):
+        def run(image: np.ndarray, kernel: np.ndarray | None) -> np.ndarray:
+            return image if kernel is None else np.clip(method(image, kernel), 0.0, 1.0)
+
+        return run
+
+    return {
+        "blurred": lambda image, kernel: image,
+        "blind_wiener": skip_if_sharp(lambda im, k: wiener_deconvolve(im, k)),
+        "skimage_wiener": skip_if_sharp(
+            lambda im, k: _per_channel(lambda c: wiener(c, k, skimage_balance), im)
+        ),
+        "unsupervised_wiener": skip_if_sharp(
+            lambda im, k: _per_channel(lambda c: unsupervised_wiener(c, k, rng=rng)[0], im)
+        ),
+        "richardson_lucy": skip_if_sharp(
+            lambda im, k: _per_channel(lambda c: richardson_lucy(c, k, rl_iterations), im)
+        ),
+    }
+
+
+def blind_kernel(image: np.ndarray) -> np.ndarray | None:
+    """The kernel blind deblurring uses for ``image``: None when the detector finds no blur or
+    the estimated length is below MIN_BLUR_PX (the same rule as :func:`deblur_blind`)."""
+    if not detect_blur(image)[0]:
+        return None
+    estimate = estimate_motion_blur(image)
+    return None if estimate.length_px < MIN_BLUR_PX else estimate.kernel()
+
+
+def evaluate_deblurring(
+    root: str | os.PathLike,
+    split: str,
+    methods: dict[str, Callable],
+    every: int = 1,
+    progress: bool = False,
+) -> list[dict]:
+    """PSNR and SSIM (data range 1) of each method's output against the stand-in's sharp
+    mid-exposure render, for every ``every``-th frame of ``split``. One row per frame and
+    method: scene, sequence, frame, method, psnr_db, ssim, blurred (detector verdict)."""
+    frames = [(scene, sequence, frame) for scene in list_scenes(root)
+              for sequence in load_split(root, scene, split)
+              for frame in sequence.frame_ids[::every]]  # fmt: skip
+    rows = []
+    for scene, sequence, frame in tqdm(frames, disable=not progress, desc=f"deblur {split}"):
+        blurred = as_float_image(read_image(sequence.path(frame, "color")))
+        sharp = as_float_image(read_image(sequence.path(frame, "sharp")))
+        kernel = blind_kernel(blurred)
+        for name, method in methods.items():
+            restored = method(blurred, kernel)
+            rows.append({
+                "scene": scene, "sequence": sequence.number, "frame": frame, "method": name,
+                "psnr_db": psnr(sharp, restored, 1.0), "ssim": ssim(sharp, restored, 1.0),
+                "blurred": kernel is not None,
+            })  # fmt: skip
+    return rows
