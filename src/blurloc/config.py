@@ -1,9 +1,11 @@
-"""Paths anchored on the package file, and the one seeding helper."""
+"""Paths anchored on the package file, the one seeding helper, and atomic result files."""
 
 from __future__ import annotations
 
+import csv
 import os
 import random
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -36,3 +38,17 @@ def seed_everything(seed: int) -> None:
     random.seed(seed)
     np.random.seed(seed)  # noqa: NPY002 (the global generator, for code that still uses it)
     torch.manual_seed(seed)
+
+
+def write_rows(rows: list[dict], path: str | os.PathLike) -> Path:
+    """Write ``rows`` (dicts with the same keys) as CSV, atomically: to a temporary file in the
+    same folder, then renamed, so a reader never sees half a file."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile("w", dir=path.parent, suffix=".tmp", delete=False,
+                                     newline="") as handle:  # fmt: skip
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    os.replace(handle.name, path)
+    return path

@@ -176,3 +176,164 @@ def plot_blur_histogram(
     axis.set_title(f"Blur extent of {extent.size} stand-in frames (dotted: 3 px and 8 px)")
     axis.legend()
     return figure
+
+
+PAPER_COLOUR = "#999999"
+METHOD_COLOURS = {
+    "blurred": "#555555",
+    "blind_wiener": "#1f77b4",
+    "skimage_wiener": "#ff7f0e",
+    "unsupervised_wiener": "#2ca02c",
+    "richardson_lucy": "#9467bd",
+}
+
+
+def _image_axis(axis: plt.Axes, image: np.ndarray, title: str, cmap: str = "gray") -> None:
+    axis.imshow(np.clip(image, 0, 1) if image.dtype != np.uint8 else image, cmap=cmap)
+    axis.set_title(title)
+    axis.axis("off")
+
+
+def plot_kernels(kernels: dict[str, np.ndarray]) -> plt.Figure:
+    """Blur kernels (PSFs) side by side, each titled by its label."""
+    figure, axes = plt.subplots(1, len(kernels), figsize=(2.0 * len(kernels), 2.2))
+    for axis, (label, kernel) in zip(np.atleast_1d(axes), kernels.items(), strict=True):
+        axis.imshow(kernel, cmap="magma", interpolation="nearest")
+        axis.set_title(label)
+        axis.axis("off")
+    return figure
+
+
+def plot_spectra(
+    sharp: np.ndarray,
+    blurred: np.ndarray,
+    spectrum_sharp: np.ndarray,
+    spectrum_blurred: np.ndarray,
+    length_px: float,
+    angle_deg: float,
+) -> plt.Figure:
+    """Sharp vs blurred image and their log power spectra; the blurred spectrum's dark stripes
+    (sinc zeros) run perpendicular to the motion, N / L bins apart (dashed: predicted zeros)."""
+    figure, axes = plt.subplots(1, 4, figsize=(11, 2.9))
+    _image_axis(axes[0], sharp, "sharp")
+    _image_axis(axes[1], blurred, f"blurred: L = {length_px:g} px, θ = {angle_deg:g}°")
+    size = spectrum_blurred.shape[0]
+    panels = ((axes[2], spectrum_sharp, "log power spectrum, sharp"),
+              (axes[3], spectrum_blurred, "log power spectrum, blurred"))  # fmt: skip
+    for axis, spectrum, title in panels:
+        axis.imshow(spectrum, cmap="viridis", extent=(-size / 2, size / 2, -size / 2, size / 2))
+        axis.set_title(title)
+        axis.axis("off")
+    theta = np.radians(angle_deg)
+    direction, normal = np.array([np.cos(theta), np.sin(theta)]), np.array(
+        [-np.sin(theta), np.cos(theta)]
+    )
+    for k in range(1, int(length_px / 2) + 1):  # zeros at r = k N / L along the motion
+        for sign in (-1, 1):
+            centre = sign * k * size / length_px * direction
+            ends = np.array([centre - normal * size, centre + normal * size])
+            axes[3].plot(ends[:, 0], ends[:, 1], "w--", lw=0.6)
+    axes[3].set_xlim(-size / 2, size / 2)
+    axes[3].set_ylim(-size / 2, size / 2)
+    return figure
+
+
+def plot_estimation_accuracy(rows: list[dict], noise_for_length: float) -> plt.Figure:
+    """Median (line) and interquartile range (band) of the blind angle and length errors,
+    against the true length (at noise ``noise_for_length``) and against the noise sigma."""
+    figure, axes = plt.subplots(1, 2, figsize=(10, 3.2))
+    sweeps = (("length_px", "true blur length L (px)"),
+              ("noise_sigma", "noise σ (images in [0, 1])"))  # fmt: skip
+    errors = (("angle_error_deg", "#1f77b4", "angle error (°)"),
+              ("length_error_px", "#d62728", "length error (px)"))  # fmt: skip
+    for column, (key, label) in enumerate(sweeps):
+        axis = axes[column]
+        subset = [r for r in rows if key == "noise_sigma" or r["noise_sigma"] == noise_for_length]
+        values = sorted({r[key] for r in subset})
+        for error, colour, name in errors:
+            stats = np.array([np.percentile([r[error] for r in subset if r[key] == v],
+                                            [25, 50, 75]) for v in values])  # fmt: skip
+            axis.plot(values, stats[:, 1], "o-", color=colour, label=f"median {name}")
+            axis.fill_between(values, stats[:, 0], stats[:, 2], color=colour, alpha=0.15)
+        axis.axhline(1.5, color="#1f77b4", ls=":", lw=1, label="target: 1.5°")
+        axis.axhline(1.0, color="#d62728", ls=":", lw=1, label="target: 1 px")
+        axis.set_xlabel(label)
+        axis.set_yscale("symlog", linthresh=1.0)
+        axis.set_ylabel("error")
+        if column == 0:
+            axis.set_title(f"against L (σ = {noise_for_length:g}); band: 25-75th percentile")
+            axis.legend(fontsize=7)
+        else:
+            axis.set_title("against noise (all L)")
+    return figure
+
+
+def plot_detection(
+    scores: dict[str, tuple[np.ndarray, np.ndarray]], threshold: float
+) -> plt.Figure:
+    """Histograms of the detector's score for sharp and blurred frames, one panel per named
+    (scores, labels) set, with the threshold."""
+    figure, axes = plt.subplots(1, len(scores), figsize=(5 * len(scores), 3), sharex=True)
+    for axis, (name, (values, labels)) in zip(np.atleast_1d(axes), scores.items(), strict=True):
+        bins = np.linspace(min(values.min(), threshold) - 0.5, values.max() + 0.5, 40)
+        axis.hist(values[~labels], bins, alpha=0.6, color="#1f77b4", label="sharp render")
+        axis.hist(values[labels], bins, alpha=0.6, color="#d62728", label="blurred (≥ 3 px)")
+        axis.axvline(threshold, color="k", lw=1.2, label=f"threshold {threshold:.2f}")
+        hit = (values[labels] > threshold).mean()
+        correct_sharp = (values[~labels] <= threshold).mean()
+        axis.set_title(f"{name}: {hit:.0%} of blurred, {correct_sharp:.0%} of sharp right")
+        axis.set_xlabel("blur score ln(P_mid / P_high)")
+        axis.legend(fontsize=7)
+    return figure
+
+
+def plot_deblurring_process(rows: list[dict]) -> plt.Figure:
+    """Fig. 3, the image deblurring process: blurred image → its log spectrum (with the
+    estimated motion direction) → the estimated PSF → the restored image → the sharp truth.
+    Each row: dict with blurred, spectrum, angle_deg, kernel, restored, sharp, title."""
+    figure, axes = plt.subplots(len(rows), 5, figsize=(13, 2.7 * len(rows)), squeeze=False)
+    for row, item in zip(axes, rows, strict=True):
+        _image_axis(row[0], item["blurred"], f"{item['title']}: blurred")
+        size = item["spectrum"].shape[0]
+        row[1].imshow(item["spectrum"], cmap="viridis",
+                      extent=(-size / 2, size / 2, -size / 2, size / 2))  # fmt: skip
+        theta = np.radians(item["angle_deg"])
+        ends = np.array([-1, 1]) * size / 2
+        row[1].plot(ends * np.cos(theta), ends * np.sin(theta), "w-", lw=0.8)
+        row[1].set_title(f"spectrum, motion at {item['angle_deg']:.1f}°")
+        row[1].axis("off")
+        row[2].imshow(item["kernel"], cmap="magma", interpolation="nearest")
+        row[2].set_title(f"estimated PSF, L = {item['length_px']:.1f} px")
+        row[2].axis("off")
+        _image_axis(row[3], item["restored"], "restored (Wiener)")
+        _image_axis(row[4], item["sharp"], "sharp (truth)")
+    figure.suptitle("Fig. 3 · The image deblurring process (this package)")
+    return figure
+
+
+def plot_per_scene_metric(
+    measured: dict[str, dict[str, float]],
+    paper: dict[str, float],
+    ylabel: str,
+    title: str,
+) -> plt.Figure:
+    """Grouped bars per scene: each measured method ({method: {scene: value}}) and the paper's
+    printed values (hatched grey, labelled "paper")."""
+    scenes = list(paper)
+    series = [(name, values, METHOD_COLOURS.get(name, None), None)
+              for name, values in measured.items()]  # fmt: skip
+    series.append(("paper (printed)", paper, PAPER_COLOUR, "//"))
+    width = 0.8 / len(series)
+    figure, axis = plt.subplots(figsize=(10, 3.4))
+    for index, (name, values, colour, hatch) in enumerate(series):
+        x = np.arange(len(scenes)) + (index - (len(series) - 1) / 2) * width
+        heights = [values.get(scene, np.nan) for scene in scenes]
+        axis.bar(x, heights, width, label=name, color=colour, hatch=hatch,
+                 edgecolor="white" if hatch is None else "#444444", linewidth=0.5)  # fmt: skip
+    axis.set_xticks(np.arange(len(scenes)), scenes)
+    axis.set_ylabel(ylabel)
+    axis.set_title(title)
+    lows = [v for _, values, _, _ in series for v in values.values() if np.isfinite(v)]
+    axis.set_ylim(min(lows) * 0.9, max(lows) * 1.03)
+    axis.legend(ncol=3, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
+    return figure

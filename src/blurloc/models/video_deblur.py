@@ -1,0 +1,137 @@
+"""Recurrent video deblurring (Sec. III.A.2, eq. 8-11), written for this package.
+
+After the Recurrence-in-Recurrence network of Park et al. (2022), at CPU scale::
+
+    f_t, h_t  = Recurrence(B_t, h_{t-1})                         (eq. 8)
+    h~_t      = Recurrence~(h_t, h~_{t-1})                        (eq. 9)  auxiliary state
+    f~_t      = w~_{t-1} * f~_{t-1} + w_t * f_t                   (eq. 10) adaptive blending
+    L_t       = B_t + Rec(f_t, h_t, f~_t, h~_t)                   (eq. 11) residual output
+
+The features live at quarter resolution (two stride-2 convolutions, for CPU speed); the
+reconstructor upsamples by pixel shuffle (no transposed convolution, so no checkerboard). The
+blending weights w_t and w~_{t-1} are per-pixel, non-negative and sum to one (a softmax over two
+logits computed from the current and the previous features). Flags switch off the auxiliary
+state, the blending or the recurrence itself (then every frame is deblurred alone: the
+single-frame baseline).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import torch
+import torch.nn.functional as F
+from torch import nn
+
+
+@dataclass(frozen=True)
+class VideoDeblurConfig:
+    """Widths and switches of :class:`VideoDeblurNet`."""
+
+    channels: int = 48
+    hidden: int = 32
+    blocks: int = 4
+    aux_state: bool = True
+    blending: bool = True
+    recurrent: bool = True
+
+    def as_dict(self) -> dict:
+        """Plain dict (stored in checkpoints)."""
+        return asdict(self)
+
+
+class ResidualBlock(nn.Module):
+    """conv-ReLU-conv with an identity shortcut."""
+
+    def __init__(self, channels: int) -> None:
+        super().__init__()
+        self.conv1 = nn.Conv2d(channels, channels, 3, padding=1)
+        self.conv2 = nn.Conv2d(channels, channels, 3, padding=1)
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return x + self.conv2(F.relu(self.conv1(x)))
+
+
+class VideoDeblurNet(nn.Module):
+    """The recurrent deblurring network; frames in [-1, 1], (N, T, 3, H, W) → same shape."""
+
+    stride = 4
+
+    def __init__(self, config: VideoDeblurConfig | None = None) -> None:
+        super().__init__()
+        self.config = config = config or VideoDeblurConfig()
+        c, h = config.channels, config.hidden
+        self.encode = nn.Sequential(
+            nn.Conv2d(3, c // 2, 3, stride=2, padding=1), nn.ReLU(),
+            nn.Conv2d(c // 2, c, 3, stride=2, padding=1), nn.ReLU(),
+        )  # fmt: skip
+        # eq. 8: features of B_t merged with the previous hidden state
+        self.recur = nn.Sequential(
+            nn.Conv2d(c + h, c, 3, padding=1), nn.ReLU(),
+            *[ResidualBlock(c) for _ in range(config.blocks)],
+        )  # fmt: skip
+        self.to_hidden = nn.Conv2d(c, h, 3, padding=1)
+        if config.aux_state:  # eq. 9
+            self.aux = nn.Sequential(
+                nn.Conv2d(2 * h, h, 3, padding=1), nn.ReLU(),
+                nn.Conv2d(h, h, 3, padding=1),
+            )  # fmt: skip
+        if config.blending:  # eq. 10: two logits per pixel from current and previous features
+            self.attend = nn.Sequential(
+                nn.Conv2d(2 * c, c // 2, 3, padding=1), nn.ReLU(),
+                nn.Conv2d(c // 2, 2, 3, padding=1),
+            )  # fmt: skip
+        merged = c + h + (c if config.blending else 0) + (h if config.aux_state else 0)
+        self.reconstruct = nn.Sequential(  # eq. 11
+            nn.Conv2d(merged, c, 3, padding=1), nn.ReLU(),
+            ResidualBlock(c),
+            nn.Conv2d(c, 3 * self.stride**2, 3, padding=1),
+            nn.PixelShuffle(self.stride),
+            nn.Conv2d(3, 3, 3, padding=1),
+        )  # fmt: skip
+        self.last_attention: list[torch.Tensor] = []
+
+    def forward(self, frames: torch.Tensor, keep_attention: bool = False) -> torch.Tensor:
+        """Deblur a clip (N, T, 3, H, W) frame by frame in time order. Any H, W: frames are
+        padded by reflection to a multiple of the stride and cropped back. With
+        ``keep_attention`` the blending weights w_t of eq. 10 are kept in ``last_attention``."""
+        if frames.ndim != 5 or frames.shape[2] != 3:
+            raise ValueError(f"frames must be (N, T, 3, H, W), got {tuple(frames.shape)}")
+        n, t, _, height, width = frames.shape
+        pad_h, pad_w = (-height) % self.stride, (-width) % self.stride
+        padded = F.pad(frames.flatten(0, 1), (0, pad_w, 0, pad_h), mode="replicate")
+        padded = padded.unflatten(0, (n, t))
+        config = self.config
+        hidden = aux = blended = None
+        outputs, self.last_attention = [], []
+        for step in range(t):
+            blurred = padded[:, step]
+            features = self.encode(blurred)
+            if hidden is None or not config.recurrent:
+                hidden = features.new_zeros(n, config.hidden, *features.shape[-2:])
+            features = self.recur(torch.cat([features, hidden], 1))
+            hidden = self.to_hidden(features)
+            parts = [features, hidden]
+            if config.aux_state:
+                if aux is None or not config.recurrent:
+                    aux = torch.zeros_like(hidden)
+                aux = self.aux(torch.cat([hidden, aux], 1))
+                parts.append(aux)
+            if config.blending:
+                if blended is None or not config.recurrent:
+                    blended = features
+                else:
+                    weights = torch.softmax(self.attend(torch.cat([features, blended], 1)), 1)
+                    blended = weights[:, :1] * features + weights[:, 1:] * blended
+                    if keep_attention:
+                        self.last_attention.append(weights[:, :1].detach())
+                parts.append(blended)
+            residual = self.reconstruct(torch.cat(parts, 1))
+            outputs.append(blurred + residual)
+        restored = torch.stack(outputs, 1)
+        return restored[..., :height, :width]
+
+
+def parameter_count(model: nn.Module) -> int:
+    """Number of trainable parameters."""
+    return sum(p.numel() for p in model.parameters() if p.requires_grad)
