@@ -9,6 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from .config import DEFAULT_SEED
+from .images import IMAGE_SUFFIXES
 
 
 def _synth(args: argparse.Namespace) -> int:
@@ -51,9 +52,6 @@ def _run_notebooks(args: argparse.Namespace) -> int:
 
     run_notebooks(quick=args.quick, names=args.notebooks or None)
     return 0
-
-
-IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
 
 
 def _read_image(path: Path):
@@ -141,6 +139,104 @@ def _deblur(args: argparse.Namespace) -> int:
     return 0
 
 
+def _train_video_deblur(args: argparse.Namespace) -> int:
+    from dataclasses import replace
+
+    from .train import VideoTrainConfig, load_video_splits, train_video_deblur
+
+    config = VideoTrainConfig(seed=args.seed, device=args.device)
+    config = replace(config, **{k: v for k, v in {"steps": args.steps, "batch": args.batch,
+                                                  "crop": args.crop}.items() if v is not None})
+    splits = load_video_splits(args.data, args.scenes)
+    history = train_video_deblur(splits, args.out, config, progress=not args.quiet,
+                                 resume=not args.restart)  # fmt: skip
+    print(json.dumps({"checkpoint": str(Path(args.out) / "best.pt"),
+                      "best_val_psnr_db": round(max(history["val_psnr"]), 3),
+                      "steps": history["step"][-1]}))  # fmt: skip
+    return 0
+
+
+def _deblur_video(args: argparse.Namespace) -> int:
+    import cv2
+
+    from .train import load_video_deblur
+    from .video import DEFAULT_CHECKPOINT, read_frame_folder, restore_sequence
+
+    model = load_video_deblur(args.checkpoint or DEFAULT_CHECKPOINT)
+    paths, frames = read_frame_folder(args.input)
+    restored = restore_sequence(model, frames)
+    target = Path(args.output)
+    target.mkdir(parents=True, exist_ok=True)
+    for path, frame in zip(paths, restored, strict=True):
+        if not cv2.imwrite(str(target / path.name), frame[..., ::-1]):
+            raise ValueError(f"{target / path.name}: cannot write this image")
+    print(json.dumps({"frames": len(paths), "output": str(target)}))
+    return 0
+
+
+def _train_pose(args: argparse.Namespace) -> int:
+    from dataclasses import replace
+
+    from .models.pose import PoseConfig
+    from .train import PoseTrainConfig, train_pose
+
+    root = _input_root(args.data, args.input)
+    config = PoseTrainConfig(seed=args.seed, device=args.device,
+                             model=PoseConfig(head=args.head, encoder=args.encoder))  # fmt: skip
+    overrides = {"epochs": args.epochs, "resize": args.resize, "crop": args.crop,
+                 "lr": args.lr, "batch": args.batch, "window": args.window}  # fmt: skip
+    config = replace(config, **{k: v for k, v in overrides.items() if v is not None},
+                     learned_weighting=args.learned_weighting)  # fmt: skip
+    history = train_pose(root, args.scene, args.out, config, progress=not args.quiet,
+                         resume=not args.restart)  # fmt: skip
+    print(json.dumps({"checkpoint": str(Path(args.out) / "best.pt"),
+                      "epochs": history["epoch"][-1],
+                      "val_position_m": round(min(history["val_position_m"]), 4)}))  # fmt: skip
+    return 0
+
+
+def _input_root(data: str, condition: str) -> Path:
+    """The root a pose command reads: ``data`` for blurred/sharp input, or the deblurred copy
+    notebook 03 writes (``results/deblurred/<wiener|rnn>``) when ``data`` holds none."""
+    root = Path(data)
+    if condition in ("wiener", "rnn"):
+        from .config import RESULTS_DIR
+
+        deblurred = root / "deblurred" / condition
+        root = deblurred if deblurred.is_dir() else RESULTS_DIR / "deblurred" / condition
+        if not root.is_dir():
+            raise ValueError(f"{root}: no {condition}-deblurred frames; run notebook 03 first")
+    return root
+
+
+def _eval_pose(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from .data import load_split
+    from .metrics import pose_summary
+    from .train import load_pose_model, predict_poses
+    from .trajectory import quaternions_to_poses, write_tum
+
+    model, config = load_pose_model(Path(args.model) / "best.pt"
+                                    if Path(args.model).is_dir() else args.model)  # fmt: skip
+    sequences = load_split(args.data, args.scene, "test")
+    if not sequences:
+        raise ValueError(f"{args.data}/{args.scene}: no TestSplit sequences")
+    positions, quaternions, true_positions, true_quaternions = predict_poses(
+        model, sequences, config)
+    write_tum(args.out, np.arange(len(positions)), quaternions_to_poses(positions, quaternions))
+    summary = pose_summary(true_positions, true_quaternions, positions, quaternions, config.beta)
+    print(json.dumps(summary))
+    return 0
+
+
+def _pose_error(args: argparse.Namespace) -> int:
+    from .trajectory import compare_trajectories
+
+    print(json.dumps(compare_trajectories(args.ground_truth, args.estimate, args.max_difference)))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every subcommand."""
     parser = argparse.ArgumentParser(prog="blurloc", description=__doc__)
@@ -181,6 +277,64 @@ def build_parser() -> argparse.ArgumentParser:
     deblur.add_argument("--angle", type=float, help="its angle, degrees CCW from horizontal")
     deblur.add_argument("--nsr", type=float, help="noise-to-signal ratio (default: estimated)")
     deblur.set_defaults(handler=_deblur)
+
+    train = commands.add_parser(
+        "train-video-deblur", help="train the recurrent deblurring network on a stand-in root"
+    )
+    train.add_argument("--data", required=True, help="stand-in root (needs sharp frames)")
+    train.add_argument("--out", required=True, help="folder for best.pt, last.pt, history.json")
+    train.add_argument("--scenes", nargs="+", help="scenes to train on (default: all)")
+    train.add_argument("--steps", type=int, help="optimiser steps (default 1200)")
+    train.add_argument("--batch", type=int, help="clips per step (default 8)")
+    train.add_argument("--crop", type=int, help="crop size in px (default 64)")
+    train.add_argument("--seed", type=int, default=DEFAULT_SEED)
+    train.add_argument("--device", default="auto", help="auto (CUDA when present), cpu, cuda")
+    train.add_argument("--restart", action="store_true", help="ignore last.pt, start afresh")
+    train.add_argument("--quiet", action="store_true", help="no progress bar")
+    train.set_defaults(handler=_train_video_deblur)
+
+    video = commands.add_parser(
+        "deblur-video", help="deblur a video folder with the recurrent network"
+    )
+    video.add_argument("input", help="7-Scenes sequence folder or folder of images")
+    video.add_argument("output", help="folder for the deblurred frames (same names)")
+    video.add_argument("--checkpoint", help="network checkpoint (default: the shipped one)")
+    video.set_defaults(handler=_deblur_video)
+
+    pose = commands.add_parser("train-pose", help="train camera pose regression on one scene")
+    pose.add_argument("--data", required=True, help="7-Scenes-layout root")
+    pose.add_argument("--scene", required=True)
+    pose.add_argument("--out", required=True, help="folder for best.pt, last.pt, history.json")
+    pose.add_argument("--input", choices=("blurred", "wiener", "rnn", "sharp"), default="blurred",
+                      help="frames to train on (wiener/rnn: deblurred copies from notebook 03)")
+    pose.add_argument("--head", choices=("lstm", "bilstm", "gru", "none"), default="lstm")
+    pose.add_argument("--encoder", choices=("small", "resnet18", "resnet34"), default="small")
+    pose.add_argument("--epochs", type=int)
+    pose.add_argument("--resize", type=int, help="short side in px (paper: 256)")
+    pose.add_argument("--crop", type=int, help="square crop in px (paper: 224)")
+    pose.add_argument("--lr", type=float)
+    pose.add_argument("--batch", type=int)
+    pose.add_argument("--window", type=int, help="frames per training sequence")
+    pose.add_argument("--learned-weighting", action="store_true",
+                      help="learnable s_x, s_q loss weights instead of eq. 14's beta")
+    pose.add_argument("--seed", type=int, default=DEFAULT_SEED)
+    pose.add_argument("--device", default="auto")
+    pose.add_argument("--restart", action="store_true", help="ignore last.pt")
+    pose.add_argument("--quiet", action="store_true", help="no progress bar")
+    pose.set_defaults(handler=_train_pose)
+
+    evaluate = commands.add_parser("eval-pose", help="predict a scene's test frames (TUM file)")
+    evaluate.add_argument("--data", required=True)
+    evaluate.add_argument("--scene", required=True)
+    evaluate.add_argument("--model", required=True, help="checkpoint or train-pose --out folder")
+    evaluate.add_argument("--out", required=True, help="TUM file to write")
+    evaluate.set_defaults(handler=_eval_pose)
+
+    error = commands.add_parser("pose-error", help="errors between two trajectories (JSON)")
+    error.add_argument("ground_truth", help="TUM file or 7-Scenes sequence folder")
+    error.add_argument("estimate", help="TUM file or 7-Scenes sequence folder")
+    error.add_argument("--max-difference", type=float, default=0.01, help="seconds")
+    error.set_defaults(handler=_pose_error)
 
     run = commands.add_parser("run-notebooks", help="run the notebooks in order with papermill")
     run.add_argument("--quick", action="store_true", help="small sizes (as in the tests)")

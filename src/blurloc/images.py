@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 SUPPORTED_DTYPES = (np.uint8, np.float32, np.float64)
+#: File suffixes read as images when a folder is given.
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
 
 
 def check_image(image: np.ndarray) -> np.ndarray:

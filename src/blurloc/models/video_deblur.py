@@ -8,7 +8,8 @@ After the Recurrence-in-Recurrence network of Park et al. (2022), at CPU scale::
     L_t       = B_t + Rec(f_t, h_t, f~_t, h~_t)                   (eq. 11) residual output
 
 The features live at quarter resolution (two stride-2 convolutions, for CPU speed); the
-reconstructor upsamples by pixel shuffle (no transposed convolution, so no checkerboard). The
+reconstructor upsamples by pixel shuffle (no transposed convolution, so no checkerboard) and
+merges with shallow full-resolution features of B_t (the detail a residual needs). The
 blending weights w_t and w~_{t-1} are per-pixel, non-negative and sum to one (a softmax over two
 logits computed from the current and the previous features). Flags switch off the auxiliary
 state, the blending or the recurrence itself (then every frame is deblurred alone: the
@@ -28,8 +29,8 @@ from torch import nn
 class VideoDeblurConfig:
     """Widths and switches of :class:`VideoDeblurNet`."""
 
-    channels: int = 48
-    hidden: int = 32
+    channels: int = 32
+    hidden: int = 24
     blocks: int = 4
     aux_state: bool = True
     blending: bool = True
@@ -61,9 +62,11 @@ class VideoDeblurNet(nn.Module):
         super().__init__()
         self.config = config = config or VideoDeblurConfig()
         c, h = config.channels, config.hidden
+        s = c // 2
+        self.encode_full = nn.Sequential(nn.Conv2d(3, s, 3, padding=1), nn.ReLU())
         self.encode = nn.Sequential(
-            nn.Conv2d(3, c // 2, 3, stride=2, padding=1), nn.ReLU(),
-            nn.Conv2d(c // 2, c, 3, stride=2, padding=1), nn.ReLU(),
+            nn.Conv2d(s, s, 3, stride=2, padding=1), nn.ReLU(),
+            nn.Conv2d(s, c, 3, stride=2, padding=1), nn.ReLU(),
         )  # fmt: skip
         # eq. 8: features of B_t merged with the previous hidden state
         self.recur = nn.Sequential(
@@ -82,19 +85,29 @@ class VideoDeblurNet(nn.Module):
                 nn.Conv2d(c // 2, 2, 3, padding=1),
             )  # fmt: skip
         merged = c + h + (c if config.blending else 0) + (h if config.aux_state else 0)
-        self.reconstruct = nn.Sequential(  # eq. 11
+        self.reconstruct = nn.Sequential(  # eq. 11, back to full resolution by pixel shuffle
             nn.Conv2d(merged, c, 3, padding=1), nn.ReLU(),
             ResidualBlock(c),
-            nn.Conv2d(c, 3 * self.stride**2, 3, padding=1),
+            nn.Conv2d(c, s * self.stride**2, 3, padding=1),
             nn.PixelShuffle(self.stride),
-            nn.Conv2d(3, 3, 3, padding=1),
+        )  # fmt: skip
+        self.output = nn.Sequential(  # merged with full-resolution features of B_t
+            nn.Conv2d(2 * s, s, 3, padding=1), nn.ReLU(),
+            nn.Conv2d(s, 3, 3, padding=1),
         )  # fmt: skip
         self.last_attention: list[torch.Tensor] = []
 
-    def forward(self, frames: torch.Tensor, keep_attention: bool = False) -> torch.Tensor:
-        """Deblur a clip (N, T, 3, H, W) frame by frame in time order. Any H, W: frames are
-        padded by reflection to a multiple of the stride and cropped back. With
-        ``keep_attention`` the blending weights w_t of eq. 10 are kept in ``last_attention``."""
+    def forward(
+        self,
+        frames: torch.Tensor,
+        state: tuple | None = None,
+        keep_attention: bool = False,
+    ) -> tuple[torch.Tensor, tuple]:
+        """Deblur a clip (N, T, 3, H, W) in [-1, 1] frame by frame in time order; returns the
+        restored clip and the recurrent state (h, h~, f~) to pass with the next clip of the same
+        video. Any H, W: frames are padded by replication to a multiple of the stride and
+        cropped back. With ``keep_attention`` the blending weights w_t of eq. 10 are kept in
+        ``last_attention``."""
         if frames.ndim != 5 or frames.shape[2] != 3:
             raise ValueError(f"frames must be (N, T, 3, H, W), got {tuple(frames.shape)}")
         n, t, _, height, width = frames.shape
@@ -102,11 +115,12 @@ class VideoDeblurNet(nn.Module):
         padded = F.pad(frames.flatten(0, 1), (0, pad_w, 0, pad_h), mode="replicate")
         padded = padded.unflatten(0, (n, t))
         config = self.config
-        hidden = aux = blended = None
+        hidden, aux, blended = state if state is not None else (None, None, None)
         outputs, self.last_attention = [], []
         for step in range(t):
             blurred = padded[:, step]
-            features = self.encode(blurred)
+            full = self.encode_full(blurred)
+            features = self.encode(full)
             if hidden is None or not config.recurrent:
                 hidden = features.new_zeros(n, config.hidden, *features.shape[-2:])
             features = self.recur(torch.cat([features, hidden], 1))
@@ -126,10 +140,10 @@ class VideoDeblurNet(nn.Module):
                     if keep_attention:
                         self.last_attention.append(weights[:, :1].detach())
                 parts.append(blended)
-            residual = self.reconstruct(torch.cat(parts, 1))
+            residual = self.output(torch.cat([self.reconstruct(torch.cat(parts, 1)), full], 1))
             outputs.append(blurred + residual)
-        restored = torch.stack(outputs, 1)
-        return restored[..., :height, :width]
+        restored = torch.stack(outputs, 1)[..., :height, :width]
+        return restored, (hidden, aux, blended)
 
 
 def parameter_count(model: nn.Module) -> int:

@@ -1,0 +1,48 @@
+"""CPU throughput of the recurrent video deblurring network at 160x120 (target >= 25 frames/s).
+
+    python benchmarks/bench_video_deblur.py [--frames 200] [--threads 2] [--checkpoint F]
+
+Runs the shipped checkpoint (or the one given) over a synthetic 160x120 video in chunks of 32
+frames, as ``blurloc deblur-video`` does, and prints frames per second for the full network and
+for the single-frame baseline of the same size.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+import torch
+
+from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
+from blurloc.train import load_video_deblur
+from blurloc.video import DEFAULT_CHECKPOINT, restore_sequence
+
+
+def frames_per_second(model: torch.nn.Module, video: np.ndarray) -> float:
+    """Frames per second of :func:`restore_sequence` over ``video`` (after one warm-up run)."""
+    restore_sequence(model, video[:8])
+    start = time.perf_counter()
+    restore_sequence(model, video)
+    return len(video) / (time.perf_counter() - start)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--frames", type=int, default=200)
+    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--checkpoint", default=str(DEFAULT_CHECKPOINT))
+    args = parser.parse_args()
+    torch.set_num_threads(args.threads)
+    video = (np.random.default_rng(0).random((args.frames, 120, 160, 3)) * 255).astype(np.uint8)
+    full = load_video_deblur(args.checkpoint)
+    single = VideoDeblurNet(VideoDeblurConfig(aux_state=False, blending=False, recurrent=False))
+    for name, model in (("full network (checkpoint)", full), ("single-frame baseline", single)):
+        fps = frames_per_second(model, video)
+        print(f"{name}: {parameter_count(model):,} parameters, {fps:.1f} frames/s at 160x120 "
+              f"on {args.threads} threads (target >= 25)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,203 @@
+"""Pose regression (Sec. III.B-E): the model, eq. 14, the metrics of eq. 12-17, trajectories,
+training and the pose CLI."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+import torch
+from scipy.spatial.transform import Rotation
+
+from blurloc.cli import main
+from blurloc.data import DataError, load_split
+from blurloc.geometry import rotation_to_quaternion
+from blurloc.metrics import (
+    pose_summary,
+    position_errors,
+    quaternion_errors_deg,
+    rotation_errors_deg,
+)
+from blurloc.models.pose import (
+    LearnedWeighting,
+    PoseConfig,
+    PoseRegressor,
+    ResNetEncoder,
+    load_encoder_weights,
+    pose_loss,
+)
+from blurloc.train import PoseTrainConfig, load_pose_model, predict_poses, train_pose
+from blurloc.trajectory import associate, compare_trajectories, read_tum, write_tum
+
+
+def test_rotation_error_of_eq_13_matches_the_quaternion_formula() -> None:
+    rng = np.random.default_rng(0)
+    a = Rotation.random(50, random_state=1).as_matrix()
+    b = Rotation.random(50, random_state=2).as_matrix()
+    from_matrices = rotation_errors_deg(a, b)
+    from_quaternions = quaternion_errors_deg(rotation_to_quaternion(a), -rotation_to_quaternion(b))
+    np.testing.assert_allclose(from_matrices, from_quaternions, atol=1e-6)
+    turn = Rotation.from_rotvec([0, 0, np.radians(7.0)]).as_matrix()
+    assert rotation_errors_deg(a[:1], (a[0] @ turn)[None])[0] == pytest.approx(7.0)
+    assert position_errors(np.zeros((1, 3)), [[3.0, 4.0, 0.0]])[0] == pytest.approx(5.0)
+    with pytest.raises(ValueError, match="non-zero"):
+        quaternion_errors_deg(np.zeros((1, 4)), rng.random((1, 4)))
+
+
+def test_pose_summary_on_a_known_residual() -> None:
+    true_p = np.zeros((4, 3))
+    true_q = np.tile([1.0, 0, 0, 0], (4, 1))
+    est_p = np.array([[0.1, 0, 0], [0.3, 0, 0], [1.0, 0, 0], [6.0, 0, 0]])
+    est_q = rotation_to_quaternion(Rotation.from_rotvec(
+        np.radians([[1, 0, 0], [4, 0, 0], [8, 0, 0], [1, 0, 0]])).as_matrix())  # fmt: skip
+    summary = pose_summary(true_p, true_q, est_p, est_q, beta=0.8)
+    assert summary["position_m"]["median"] == pytest.approx(0.65)
+    assert summary["orientation_deg"]["mean"] == pytest.approx(3.5)
+    assert summary["within_0.25m_2deg"] == 0.25
+    assert summary["within_0.5m_5deg"] == 0.5
+    assert summary["within_5m_10deg"] == 0.75
+    residual = np.concatenate([est_p - true_p, est_q - true_q], axis=1)
+    assert summary["mae"] == pytest.approx(np.abs(residual).mean())
+    assert summary["rmse"] == pytest.approx(np.sqrt((residual**2).mean()))
+    expected = np.mean(np.linalg.norm(est_p, axis=1) + 0.8 * np.linalg.norm(est_q - true_q, axis=1))
+    assert summary["combined"] == pytest.approx(expected)
+
+
+@pytest.mark.parametrize("head", ["lstm", "bilstm", "gru", "none"])
+def test_model_outputs_unit_quaternions_and_the_right_causality(head: str) -> None:
+    torch.manual_seed(0)
+    model = PoseRegressor(PoseConfig(head=head, hidden=16)).eval()
+    frames = torch.rand(2, 4, 3, 40, 48) * 2 - 1
+    with torch.no_grad():
+        position, quaternion = model(frames)
+        changed = frames.clone()
+        changed[:, 3] = -changed[:, 3]  # only the last frame differs
+        _, quaternion_changed = model(changed)
+    assert position.shape == (2, 4, 3) and quaternion.shape == (2, 4, 4)
+    torch.testing.assert_close(quaternion.norm(dim=-1), torch.ones(2, 4))
+    assert (quaternion[..., 0] >= 0).all()
+    first_changed = not torch.allclose(quaternion[:, 0], quaternion_changed[:, 0], atol=1e-6)
+    assert first_changed is (head == "bilstm")  # only the bidirectional head looks ahead
+
+
+def test_loss_of_eq_14_and_learned_weighting() -> None:
+    position = torch.tensor([[[3.0, 4.0, 0.0]]])
+    quaternion = torch.tensor([[[2.0, 0.0, 0.0, 0.0]]])  # normalised inside the loss
+    truth_q = torch.tensor([[[0.0, 1.0, 0.0, 0.0]]])
+    loss = pose_loss(position, quaternion, torch.zeros(1, 1, 3), truth_q, beta=0.8)
+    assert loss.item() == pytest.approx(5.0 + 0.8 * np.sqrt(2.0))
+    weighting = LearnedWeighting()
+    value = weighting(position, quaternion, torch.zeros(1, 1, 3), truth_q)
+    assert value.item() == pytest.approx(5.0 + np.exp(3.0) * np.sqrt(2.0) - 3.0, rel=1e-5)
+
+
+def test_encoder_weights_load_from_a_local_file(tmp_path: Path) -> None:
+    source = ResNetEncoder("resnet18")
+    state = {**source.state_dict(), "fc.weight": torch.zeros(10, 512), "fc.bias": torch.zeros(10)}
+    torch.save(state, tmp_path / "resnet18.pth")
+    target = ResNetEncoder("resnet18")
+    assert load_encoder_weights(target, tmp_path / "resnet18.pth") == []
+    torch.testing.assert_close(target.conv1.weight, source.conv1.weight)
+    with pytest.raises(ValueError, match="do not fit"):
+        load_encoder_weights(ResNetEncoder("small"), tmp_path / "resnet18.pth")
+
+
+def test_tum_round_trip_and_association(tmp_path: Path) -> None:
+    poses = np.tile(np.eye(4), (3, 1, 1))
+    poses[:, :3, :3] = Rotation.random(3, random_state=3).as_matrix()
+    poses[:, :3, 3] = [[0, 0, 0], [1, 2, 3], [-1, 0.5, 2]]
+    write_tum(tmp_path / "a.txt", np.array([0.0, 0.1, 0.2]), poses)
+    stamps, positions, quaternions = read_tum(tmp_path / "a.txt")
+    np.testing.assert_allclose(stamps, [0.0, 0.1, 0.2])
+    np.testing.assert_allclose(positions, poses[:, :3, 3], atol=1e-6)
+    np.testing.assert_allclose(quaternions, rotation_to_quaternion(poses[:, :3, :3]), atol=1e-7)
+    # greedy, closest first, each used once: 0.104 goes to 0.1, so 0.095 is left unmatched
+    assert associate([0.0, 0.1, 0.2], [0.104, 0.095, 0.2049], 0.01) == [(1, 0), (2, 2)]
+    shifted = poses.copy()
+    shifted[:, 0, 3] += 0.5
+    write_tum(tmp_path / "b.txt", np.array([0.001, 0.1, 0.205]), shifted)
+    result = compare_trajectories(tmp_path / "a.txt", tmp_path / "b.txt")
+    assert result["frames"] == 3
+    assert result["position_m"]["median"] == pytest.approx(0.5, abs=1e-5)
+    assert result["orientation_deg"]["rmse"] == pytest.approx(0.0, abs=1e-3)
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ("0 0 0 0 0 0 0 0\n", "norm 0.0000 is not 1"),
+        ("0 0 0 0 0 0 0 2\n", "is not 1"),
+        ("0 0 0 0 0 0 1\n", "8 finite values"),
+        ("0 0 0 nan 0 0 0 1\n", "8 finite values"),
+        ("# only a comment\n", "no poses"),
+    ],
+)
+def test_bad_trajectory_files(tmp_path: Path, content: str, message: str) -> None:
+    (tmp_path / "t.txt").write_text(content)
+    with pytest.raises(DataError, match=message):
+        read_tum(tmp_path / "t.txt")
+
+
+def test_trajectories_without_matching_stamps(tmp_path: Path) -> None:
+    write_tum(tmp_path / "a.txt", np.array([0.0, 1.0]), np.tile(np.eye(4), (2, 1, 1)))
+    write_tum(tmp_path / "b.txt", np.array([0.5, 1.5]), np.tile(np.eye(4), (2, 1, 1)))
+    with pytest.raises(DataError, match="no timestamp matches"):
+        compare_trajectories(tmp_path / "a.txt", tmp_path / "b.txt")
+
+
+SMALL = PoseTrainConfig(epochs=3, resize=32, crop=28, batch=4, window=3,
+                        model=PoseConfig(hidden=16))  # fmt: skip
+
+
+def test_training_improves_resumes_and_refuses_another_head(
+    quick_root: Path, tmp_path: Path
+) -> None:
+    history = train_pose(quick_root, "chess", tmp_path / "lstm", SMALL, progress=False)
+    assert history["train_loss"][-1] < history["train_loss"][0]
+    again = train_pose(quick_root, "chess", tmp_path / "lstm", SMALL, progress=False)
+    assert again == history  # resumed at the end: nothing left to do, same history
+    with pytest.raises(ValueError, match="head 'lstm', not 'gru'"):
+        gru = replace(SMALL, model=PoseConfig(head="gru", hidden=16))
+        train_pose(quick_root, "chess", tmp_path / "lstm", gru, progress=False)
+    model, config = load_pose_model(tmp_path / "lstm" / "best.pt")
+    test = load_split(quick_root, "chess", "test")
+    positions, quaternions, true_positions, _ = predict_poses(model, test, config)
+    assert np.allclose(np.linalg.norm(quaternions, axis=1), 1.0, atol=1e-5)
+    assert positions.shape == true_positions.shape == (sum(len(s) for s in test), 3)
+    with pytest.raises(ValueError, match="shorter than the window"):
+        predict_poses(model, test, replace(config, window=100))
+
+
+def test_pose_cli(quick_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    argv = ["train-pose", "--data", str(quick_root), "--scene", "stairs", "--out",
+            str(tmp_path / "m"), "--epochs", "2", "--resize", "32", "--crop", "28", "--window",
+            "2", "--quiet"]  # fmt: skip
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out)["epochs"] == 2
+    assert main(["eval-pose", "--data", str(quick_root), "--scene", "stairs", "--model",
+                 str(tmp_path / "m"), "--out", str(tmp_path / "pred.txt")]) == 0  # fmt: skip
+    printed = json.loads(capsys.readouterr().out)
+    test = load_split(quick_root, "stairs", "test")
+    assert printed["frames"] == sum(len(s) for s in test)
+    lines = (tmp_path / "pred.txt").read_text().splitlines()
+    assert len(lines) == printed["frames"] and lines[0].split()[0] == "0"
+    # the printed errors agree with pose-error between the ground truth and the TUM file
+    truth = tmp_path / "truth.txt"
+    write_tum(truth, np.arange(len(lines)), np.concatenate([s.poses() for s in test]))
+    assert main(["pose-error", str(truth), str(tmp_path / "pred.txt")]) == 0
+    compared = json.loads(capsys.readouterr().out)
+    assert compared["position_m"]["median"] == pytest.approx(printed["position_m"]["median"],
+                                                             abs=1e-5)  # fmt: skip
+    # bad input: a scene without test frames, a missing checkpoint
+    (tmp_path / "empty" / "chess").mkdir(parents=True)
+    (tmp_path / "empty" / "chess" / "TestSplit.txt").write_text("")
+    (tmp_path / "empty" / "chess" / "TrainSplit.txt").write_text("")
+    assert main(["eval-pose", "--data", str(tmp_path / "empty"), "--scene", "chess", "--model",
+                 str(tmp_path / "m"), "--out", str(tmp_path / "x.txt")]) == 1  # fmt: skip
+    assert "no TestSplit sequences" in capsys.readouterr().err
+    assert main(["eval-pose", "--data", str(quick_root), "--scene", "chess", "--model",
+                 str(tmp_path / "none.pt"), "--out", str(tmp_path / "x.txt")]) == 1  # fmt: skip
+    assert "missing" in capsys.readouterr().err

@@ -1,0 +1,187 @@
+"""The recurrent deblurring network (eq. 8-11), its training loop, checkpoints and CLI."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+import torch
+from torch import nn
+
+from blurloc.cli import main
+from blurloc.data import check_data, load_split, read_image
+from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
+from blurloc.train import (
+    VideoTrainConfig,
+    load_video_deblur,
+    load_video_splits,
+    save_checkpoint,
+    train_video_deblur,
+)
+from blurloc.video import (
+    DEFAULT_CHECKPOINT,
+    read_frame_folder,
+    restore_sequence,
+    write_deblurred_root,
+)
+
+SINGLE_FRAME = VideoDeblurConfig(aux_state=False, blending=False, recurrent=False)
+
+
+def test_default_network_is_small_and_has_no_transposed_convolution() -> None:
+    model = VideoDeblurNet()
+    assert parameter_count(model) <= 1_000_000
+    assert not any(isinstance(m, nn.ConvTranspose2d) for m in model.modules())
+    # the ablations have the same core: dropping parts removes at most a few percent
+    single = VideoDeblurNet(SINGLE_FRAME)
+    assert parameter_count(single) >= 0.75 * parameter_count(model)
+
+
+@pytest.mark.parametrize(("height", "width"), [(120, 160), (37, 53), (4, 4)])
+def test_any_frame_size_is_restored_to_the_same_size(height: int, width: int) -> None:
+    model = VideoDeblurNet().eval()
+    frames = torch.rand(2, 3, 3, height, width) * 2 - 1
+    with torch.no_grad():
+        restored, _ = model(frames)
+    assert restored.shape == frames.shape
+
+
+def test_output_is_a_residual_on_the_blurred_frame() -> None:
+    model = VideoDeblurNet().eval()
+    last = model.output[-1]
+    nn.init.zeros_(last.weight)
+    nn.init.zeros_(last.bias)
+    frames = torch.rand(1, 3, 3, 16, 24) * 2 - 1
+    with torch.no_grad():
+        restored, _ = model(frames)
+    torch.testing.assert_close(restored, frames)
+
+
+def test_single_frame_network_ignores_the_past_and_recurrent_one_does_not() -> None:
+    torch.manual_seed(0)
+    frames = torch.rand(1, 3, 3, 16, 16) * 2 - 1
+    changed = frames.clone()
+    changed[:, 0] = -changed[:, 0]  # only the first frame differs
+    for config, depends in ((SINGLE_FRAME, False), (VideoDeblurConfig(), True)):
+        model = VideoDeblurNet(config).eval()
+        with torch.no_grad():
+            a, _ = model(frames)
+            b, _ = model(changed)
+        assert torch.allclose(a[:, 2], b[:, 2], atol=1e-6) is not depends
+
+
+def test_state_carries_across_chunks() -> None:
+    torch.manual_seed(1)
+    model = VideoDeblurNet().eval()
+    video = (np.random.default_rng(0).random((7, 20, 28, 3)) * 255).astype(np.uint8)
+    whole = restore_sequence(model, video, chunk=7)
+    pieces = restore_sequence(model, video, chunk=3)
+    assert np.abs(whole.astype(int) - pieces.astype(int)).max() <= 1  # float rounding only
+
+
+def test_blending_weights_are_non_negative_and_sum_to_one() -> None:
+    model = VideoDeblurNet().eval()
+    with torch.no_grad():
+        model(torch.rand(1, 4, 3, 16, 16) * 2 - 1, keep_attention=True)
+    assert len(model.last_attention) == 3  # from the second frame on
+    for weights in model.last_attention:
+        assert (weights >= 0).all() and (weights <= 1).all()
+
+
+def test_training_learns_resumes_identically_and_checkpoints_load(
+    quick_root: Path, tmp_path: Path
+) -> None:
+    splits = load_video_splits(quick_root)
+    config = VideoTrainConfig(steps=12, batch=2, clip_frames=3, crop=32, validate_every=6,
+                              model=VideoDeblurConfig(channels=16, hidden=8, blocks=1))  # fmt: skip
+    straight = train_video_deblur(splits, tmp_path / "a", config, progress=False)
+    assert straight["train_loss"][-1] < straight["train_loss"][0]  # it learns
+    first_half = replace(config, steps=6)
+    train_video_deblur(splits, tmp_path / "b", first_half, progress=False)
+    # a resumed run must match the straight one: copy the half-way state under the full config
+    payload = torch.load(tmp_path / "b" / "last.pt", weights_only=False)
+    payload["train_config"] = torch.load(tmp_path / "a" / "last.pt", weights_only=False)[
+        "train_config"
+    ]
+    payload["schedule"]["T_max"] = config.steps
+    save_checkpoint(tmp_path / "b" / "last.pt", payload)
+    resumed = train_video_deblur(splits, tmp_path / "b", config, progress=False)
+    assert resumed["step"] == straight["step"]
+    np.testing.assert_allclose(resumed["val_psnr"], straight["val_psnr"], rtol=1e-5)
+    model = load_video_deblur(tmp_path / "a" / "best.pt")
+    assert model.config.channels == 16
+
+
+def test_bad_checkpoints_and_videos_are_refused(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="missing"):
+        load_video_deblur(tmp_path / "none.pt")
+    torch.save({"format": "something else"}, tmp_path / "other.pt")
+    with pytest.raises(ValueError, match="not a blurloc video-deblurring checkpoint"):
+        load_video_deblur(tmp_path / "other.pt")
+    (tmp_path / "junk.pt").write_bytes(b"junk")
+    with pytest.raises(ValueError, match="not a readable checkpoint"):
+        load_video_deblur(tmp_path / "junk.pt")
+    wrong = {"format": "blurloc-video-deblur-1", "model_config": VideoDeblurConfig().as_dict(),
+             "model": VideoDeblurNet(SINGLE_FRAME).state_dict()}  # fmt: skip
+    torch.save(wrong, tmp_path / "wrong.pt")
+    with pytest.raises(ValueError, match="do not fit"):
+        load_video_deblur(tmp_path / "wrong.pt")
+    with pytest.raises(ValueError, match="at least 2 frames"):
+        restore_sequence(VideoDeblurNet(), np.zeros((1, 8, 8, 3), np.uint8))
+
+
+def test_shipped_checkpoint_loads() -> None:
+    model = load_video_deblur(DEFAULT_CHECKPOINT)
+    assert parameter_count(model) <= 1_000_000
+
+
+def _write_frames(folder: Path, sizes: list[tuple[int, int]]) -> None:
+    folder.mkdir(parents=True)
+    rng = np.random.default_rng(0)
+    for index, (height, width) in enumerate(sizes):
+        frame = (rng.random((height, width, 3)) * 255).astype(np.uint8)
+        cv2.imwrite(str(folder / f"frame-{index:06d}.color.png"), frame)
+
+
+def test_cli_deblur_video(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    _write_frames(tmp_path / "seq", [(24, 32)] * 3)
+    assert main(["deblur-video", str(tmp_path / "seq"), str(tmp_path / "out")]) == 0
+    assert json.loads(capsys.readouterr().out)["frames"] == 3
+    names = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert names == [f"frame-{i:06d}.color.png" for i in range(3)]
+    assert cv2.imread(str(tmp_path / "out" / names[0])).shape == (24, 32, 3)
+
+
+def test_cli_deblur_video_bad_input(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    _write_frames(tmp_path / "mixed", [(24, 32), (24, 32), (20, 32)])
+    _write_frames(tmp_path / "one", [(24, 32)])
+    (tmp_path / "empty").mkdir()
+    (tmp_path / "bad.pt").write_bytes(b"junk")
+    cases = [
+        (["deblur-video", str(tmp_path / "mixed"), str(tmp_path / "o")], "frame-000002"),
+        (["deblur-video", str(tmp_path / "one"), str(tmp_path / "o")], "one frame only"),
+        (["deblur-video", str(tmp_path / "empty"), str(tmp_path / "o")], "no frames"),
+        (["deblur-video", str(tmp_path / "nowhere"), str(tmp_path / "o")], "no such folder"),
+        (["deblur-video", str(tmp_path / "one"), str(tmp_path / "o"), "--checkpoint",
+          str(tmp_path / "bad.pt")], "bad.pt"),
+    ]
+    for argv, message in cases:
+        assert main(argv) == 1, argv
+        assert message in capsys.readouterr().err, argv
+
+
+def test_deblurred_root_keeps_the_layout(quick_root: Path, tmp_path: Path) -> None:
+    out = write_deblurred_root(quick_root, tmp_path / "copy", lambda frames: 255 - frames)
+    assert check_data(out) == check_data(quick_root)
+    original = load_split(quick_root, "chess", "test")[0]
+    copy = load_split(out, "chess", "test")[0]
+    frame = original.frame_ids[0]
+    inverted = 255 - read_image(original.path(frame))
+    np.testing.assert_array_equal(read_image(copy.path(frame)), inverted)
+    np.testing.assert_array_equal(copy.poses(), original.poses())
+    _, frames = read_frame_folder(copy.folder)
+    assert len(frames) == len(copy)
