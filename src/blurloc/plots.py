@@ -259,7 +259,8 @@ def plot_estimation_accuracy(rows: list[dict], noise_for_length: float) -> plt.F
         axis.axhline(1.0, color="#d62728", ls=":", lw=1, label="target: 1 px")
         axis.set_xlabel(label)
         axis.set_yscale("symlog", linthresh=1.0)
-        axis.set_ylabel("error")
+        axis.set_ylim(0, None)
+        axis.set_ylabel("error (symmetric log scale)")
         if column == 0:
             axis.set_title(f"against L (σ = {noise_for_length:g}); band: 25-75th percentile")
             axis.legend(fontsize=7)

@@ -63,6 +63,32 @@ EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
         "fig07_ssim_per_scene.png",
         "fig07_ssim_per_scene.pdf",
     ),
+    "03_video_rnn_deblurring": (
+        "video_training_curves.png",
+        "video_training_curves.pdf",
+        "video_deblur_ablation.md",
+        "video_deblur_ablation.csv",
+        "fig04_video_deblurring.png",
+        "fig04_video_deblurring.pdf",
+        "video_attention.png",
+        "video_attention.pdf",
+    ),
+    "04_pose_lstm_training": (
+        "pose_overview.md",
+        "pose_overview.csv",
+        "table1_blurred.md",
+        "table1_blurred.csv",
+        "table2_deblurred.md",
+        "table2_deblurred.csv",
+        "fig08_position_error.png",
+        "fig08_position_error.pdf",
+        "fig09_orientation_error.png",
+        "fig09_orientation_error.pdf",
+        "pose_training_curves.png",
+        "pose_training_curves.pdf",
+        "pose_trajectories.png",
+        "pose_trajectories.pdf",
+    ),
 }
 
 

@@ -29,6 +29,7 @@ from .data.sevenscenes import (
     load_split,
     read_image,
 )
+from .geometry import rotation_to_quaternion
 from .metrics import pose_summary
 from .models.pose import LearnedWeighting, PoseConfig, PoseRegressor, pose_loss
 from .models.video_deblur import VideoDeblurConfig, VideoDeblurNet
@@ -240,7 +241,8 @@ class PoseTrainConfig:
     Adam, lr 5e-5, weight decay 3e-4, 50 epochs, batch 64, dropout 0.6, beta 0.8. CPU-scale
     defaults here (a 1000-frame scene in minutes on 2 cores): 64 px short side, 56 px crops,
     a small ResNet, lr 1e-3 (lr 5e-5 barely moves in 15 epochs), 15 epochs, batch 16 windows
-    of 4 frames; weight decay, dropout and beta as in the paper."""
+    of 4 frames; weight decay, dropout and beta as in the paper. ``image`` is the frame kind read
+    (``color``; ``sharp`` on the stand-in for the upper bound)."""
 
     resize: int = 64
     crop: int = 56
@@ -252,6 +254,7 @@ class PoseTrainConfig:
     weight_decay: float = 3e-4
     beta: float = 0.8
     learned_weighting: bool = False
+    image: str = "color"
     seed: int = 0
     device: str = "auto"
     model: PoseConfig = field(default_factory=PoseConfig)
@@ -273,9 +276,10 @@ def split_validation(sequences: list[SequenceFrames]) -> tuple[list, list]:
 def _pose_dataset(sequences, config: PoseTrainConfig) -> PoseSequenceDataset:
     """Training windows (single frames for the head-less baseline), random crops."""
     single = config.model.head == "none"
-    return PoseSequenceDataset(sequences, window=1 if single else config.window,
-                               stride=1 if single else config.stride, resize=config.resize,
-                               crop=config.crop, random_crop=True)  # fmt: skip
+    return PoseSequenceDataset(
+        sequences, window=1 if single else config.window, stride=1 if single else config.stride,
+        resize=config.resize, crop=config.crop, random_crop=True, kinds=(config.image,),
+    )
 
 
 def predict_poses(
@@ -291,7 +295,7 @@ def predict_poses(
         raise ValueError(f"{short[0].folder}: {len(short[0])} frames, shorter than the window "
                          f"({window})")  # fmt: skip
     dataset = PoseSequenceDataset(sequences, window=window, stride=window, resize=config.resize,
-                                  crop=config.crop)  # fmt: skip
+                                  crop=config.crop, kinds=(config.image,))  # fmt: skip
     for index, sequence in enumerate(sequences):
         if len(sequence) % window:
             dataset.index.append((index, len(sequence) - window))
@@ -300,7 +304,7 @@ def predict_poses(
     with torch.inference_mode():
         for start in range(0, len(dataset), 32):
             items = [dataset[i] for i in range(start, min(start + 32, len(dataset)))]
-            frames = torch.stack([item["color"] for item in items]).to(device)
+            frames = torch.stack([item[config.image] for item in items]).to(device)
             positions, quaternions = model(frames)
             for item, position, quaternion in zip(items, positions, quaternions, strict=True):
                 for k in range(window):
@@ -357,9 +361,11 @@ def train_pose(
     loader = torch.utils.data.DataLoader(dataset, batch_size=config.batch, shuffle=True,
                                          drop_last=len(dataset) > config.batch)  # fmt: skip
     model = PoseRegressor(config.model).to(device)
-    with torch.no_grad():  # start from the mean training position
-        mean = np.concatenate([s.poses()[:, :3, 3] for s in train_sequences]).mean(axis=0)
-        model.position.bias.copy_(torch.as_tensor(mean, dtype=torch.float32))
+    with torch.no_grad():  # start from the mean training pose
+        poses = np.concatenate([s.poses() for s in train_sequences])
+        model.position.bias.copy_(torch.as_tensor(poses[:, :3, 3].mean(axis=0)))
+        quaternions = rotation_to_quaternion(poses[:, :3, :3])
+        model.rotation.bias.copy_(torch.as_tensor(quaternions.mean(axis=0)))
     weighting = LearnedWeighting().to(device) if config.learned_weighting else None
     parameters = list(model.parameters()) + (list(weighting.parameters()) if weighting else [])
     optimiser = torch.optim.Adam(parameters, lr=config.lr, weight_decay=config.weight_decay)
@@ -388,7 +394,7 @@ def train_pose(
         model.train()
         losses = []
         for batch in loader:
-            frames = batch["color"].to(device)
+            frames = batch[config.image].to(device)
             position, quaternion = model(frames)
             true_position = batch["position"].to(device).float()
             true_quaternion = batch["quaternion"].to(device).float()
