@@ -160,9 +160,12 @@ def train_video_deblur(
     config: VideoTrainConfig | None = None,
     progress: bool = True,
     resume: bool = True,
+    stop_after: int | None = None,
 ) -> dict:
     """Train :class:`VideoDeblurNet` on ``splits['train']`` and keep the checkpoint with the best
-    validation PSNR (``best.pt``; ``last.pt`` every validation, for resuming). Returns the
+    validation PSNR (``best.pt``; ``last.pt`` every validation, for resuming). ``stop_after``
+    ends this call at the first validation after that many steps (a later call resumes).
+    Returns the
     history: steps, training loss (mean over each validation interval), validation PSNR and
     seconds."""
     config = config or VideoTrainConfig()
@@ -188,6 +191,7 @@ def train_video_deblur(
             elapsed = history["seconds"][-1] if history["seconds"] else 0.0
     losses, started = [], time.perf_counter() - elapsed
     bar = tqdm(total=config.steps, initial=step, disable=not progress, desc="video deblur")
+    first_step = step
     while step < config.steps:
         model.train()
         blurred, sharp = _sample_clips(splits["train"], config, rng)
@@ -220,6 +224,8 @@ def train_video_deblur(
                                    "schedule": schedule.state_dict(), "best": best,
                                    "rng": rng.bit_generator.state,
                                    "torch_rng": torch.get_rng_state()})  # fmt: skip
+            if stop_after is not None and step - first_step >= stop_after:
+                break
     bar.close()
     (out_dir / "history.json").write_text(json.dumps(history, indent=1))
     return history
@@ -344,10 +350,12 @@ def train_pose(
     config: PoseTrainConfig | None = None,
     progress: bool = True,
     resume: bool = True,
+    stop_after: int | None = None,
 ) -> dict:
     """Train a :class:`PoseRegressor` on a scene's TrainSplit (minus the validation cut) with
     the loss of eq. 14 (or the learned weighting); keep the epoch with the lowest median
-    validation position + orientation error (``best.pt``), ``last.pt`` for resuming. Returns
+    validation position + orientation error (``best.pt``), ``last.pt`` for resuming;
+    ``stop_after`` ends this call after that many epochs (a later call resumes). Returns
     the history (epoch, train_loss, val_position_m, val_orientation_deg, seconds)."""
     config = config or PoseTrainConfig()
     out_dir = Path(out_dir)
@@ -390,7 +398,10 @@ def train_pose(
             torch.set_rng_state(payload["torch_rng"])
     started = time.perf_counter() - (history["seconds"][-1] if history["seconds"] else 0.0)
     bar = tqdm(total=config.epochs, initial=epoch, disable=not progress, desc=f"pose {scene}")
+    first_epoch = epoch
     while epoch < config.epochs:
+        if stop_after is not None and epoch - first_epoch >= stop_after:
+            break
         model.train()
         losses = []
         for batch in loader:
