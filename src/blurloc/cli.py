@@ -54,17 +54,12 @@ def _run_notebooks(args: argparse.Namespace) -> int:
     return 0
 
 
-def _read_image(path: Path):
-    from .data import read_image
-
-    return read_image(path)
-
-
 def _blur_estimate(args: argparse.Namespace) -> int:
     from .blur import detect_blur, estimate_motion_blur
+    from .data import read_image
 
     for name in args.images:
-        image = _read_image(Path(name))
+        image = read_image(name)
         try:
             blurred, score = detect_blur(image)
             estimate = estimate_motion_blur(image)
@@ -102,6 +97,7 @@ def _deblur(args: argparse.Namespace) -> int:
     import cv2
 
     from .blur import motion_kernel
+    from .data import read_image
     from .deconv import deblur_blind, wiener_deconvolve
 
     source, target = Path(args.input), Path(args.output)
@@ -127,7 +123,7 @@ def _deblur(args: argparse.Namespace) -> int:
     else:
         raise ValueError(f"{source}: no such file or folder")
     for path_in, path_out in pairs:
-        image = _read_image(path_in)
+        image = read_image(path_in)
         try:
             restored = (deblur_blind(image, args.nsr) if kernel is None
                         else wiener_deconvolve(image, kernel, args.nsr))  # fmt: skip
