@@ -231,7 +231,7 @@ def train_video_deblur(
     return history
 
 
-def _plain(config: VideoTrainConfig) -> dict:
+def _plain(config: VideoTrainConfig | PoseTrainConfig) -> dict:
     """The training settings as plain data (device excluded: resuming may change it)."""
     settings = asdict(config)
     settings.pop("device")
@@ -380,8 +380,7 @@ def train_pose(
     history = {"epoch": [], "train_loss": [], "val_position_m": [], "val_orientation_deg": [],
                "seconds": []}  # fmt: skip
     epoch, best = 0, np.inf
-    settings = asdict(config)
-    settings.pop("device")
+    settings = _plain(config)
     last = out_dir / "last.pt"
     if resume and last.is_file():
         payload = torch.load(last, map_location=device, weights_only=False)
