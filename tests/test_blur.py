@@ -14,11 +14,7 @@ from blurloc.blur import (
     to_gray,
     trajectory_kernel,
 )
-
-
-def angle_error(a: float, b: float) -> float:
-    difference = abs(a - b) % 180
-    return min(difference, 180 - difference)
+from blurloc.evaluation import angle_error_deg
 
 
 @pytest.mark.parametrize(
@@ -92,7 +88,7 @@ def test_blind_estimate_of_linear_blur(noise: float) -> None:
         length, angle = rng.uniform(7, 27), rng.uniform(0, 180)
         blurred = blur_image(images[index % 3], motion_kernel(length, angle), noise, rng=rng)
         estimate = estimate_motion_blur(blurred)
-        angle_errors.append(angle_error(estimate.angle_deg, angle))
+        angle_errors.append(angle_error_deg(estimate.angle_deg, angle))
         length_errors.append(abs(estimate.length_px - length))
         assert 0 <= estimate.angle_deg < 180
     assert np.median(angle_errors) <= 1.5

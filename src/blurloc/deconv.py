@@ -120,6 +120,15 @@ def inverse_filter(image: np.ndarray, kernel: np.ndarray, threshold: float = 1e-
 MIN_BLUR_PX = 1.5
 
 
+def blind_kernel(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> np.ndarray | None:
+    """The kernel blind deblurring uses for ``image``: the linear kernel estimated from the
+    spectrum, or None when the detector finds no blur or the estimate is below MIN_BLUR_PX."""
+    if not detect_blur(image, threshold)[0]:
+        return None
+    estimate = estimate_motion_blur(image)
+    return None if estimate.length_px < MIN_BLUR_PX else estimate.kernel()
+
+
 def deblur_blind(
     image: np.ndarray, nsr: float | None = None, threshold: float = BLUR_THRESHOLD
 ) -> np.ndarray:
@@ -128,10 +137,5 @@ def deblur_blind(
     deconvolution (eq. 4). An image judged sharp, or whose estimated blur is shorter than
     MIN_BLUR_PX, is returned unchanged (as a copy). Keeps the dtype like :func:`wiener_deconvolve`.
     """
-    blurred, _ = detect_blur(image, threshold)
-    if not blurred:
-        return image.copy()
-    estimate = estimate_motion_blur(image)
-    if estimate.length_px < MIN_BLUR_PX:
-        return image.copy()
-    return wiener_deconvolve(image, estimate.kernel(), nsr)
+    kernel = blind_kernel(image, threshold)
+    return image.copy() if kernel is None else wiener_deconvolve(image, kernel, nsr)

@@ -11,9 +11,9 @@ import skimage.data
 from skimage.restoration import richardson_lucy, unsupervised_wiener, wiener
 from tqdm.auto import tqdm
 
-from .blur import blur_image, detect_blur, estimate_motion_blur, motion_kernel
+from .blur import blur_image, estimate_motion_blur, motion_kernel
 from .data.sevenscenes import list_scenes, load_split, read_image
-from .deconv import MIN_BLUR_PX, wiener_deconvolve
+from .deconv import blind_kernel, wiener_deconvolve
 from .images import as_float_image
 from .metrics import psnr, ssim
 
@@ -106,15 +106,6 @@ def deblurring_methods(
     }
 
 
-def blind_kernel(image: np.ndarray) -> np.ndarray | None:
-    """The kernel blind deblurring uses for ``image``: None when the detector finds no blur or
-    the estimated length is below MIN_BLUR_PX (the same rule as :func:`deblur_blind`)."""
-    if not detect_blur(image)[0]:
-        return None
-    estimate = estimate_motion_blur(image)
-    return None if estimate.length_px < MIN_BLUR_PX else estimate.kernel()
-
-
 def evaluate_deblurring(
     root: str | os.PathLike,
     split: str,
@@ -141,3 +132,44 @@ def evaluate_deblurring(
                 "blurred": kernel is not None,
             })  # fmt: skip
     return rows
+
+
+def choose_skimage_balance(
+    root: str | os.PathLike, candidates: Iterable[float], every: int = 1
+) -> tuple[float, int]:
+    """The ``balance`` of scikit-image's ``wiener`` with the best mean PSNR over every
+    ``every``-th **training** frame that blind deblurring would touch (fed the same estimated
+    kernel); returns it and the number of frames used."""
+    candidates = list(candidates)
+    scores: dict[float, list[float]] = {b: [] for b in candidates}
+    for scene in list_scenes(root):
+        for sequence in load_split(root, scene, "train"):
+            for frame in sequence.frame_ids[::every]:
+                observed = as_float_image(read_image(sequence.path(frame, "color")))
+                kernel = blind_kernel(observed)
+                if kernel is None:
+                    continue
+                truth = as_float_image(read_image(sequence.path(frame, "sharp")))
+                for balance in candidates:
+                    restored = _per_channel(
+                        lambda c, b=balance, k=kernel: wiener(c, k, b), observed
+                    )
+                    scores[balance].append(psnr(truth, np.clip(restored, 0, 1), 1.0))
+    used = len(scores[candidates[0]])
+    if not used:
+        raise ValueError(f"{root}: no blurred training frames to choose the balance on")
+    return max(candidates, key=lambda b: float(np.mean(scores[b]))), used
+
+
+def per_scene_means(rows: list[dict], metric: str) -> dict[str, dict[str, float]]:
+    """{method: {scene: mean of ``metric``}} over per-frame rows (scenes in first-seen order),
+    plus a ``mean`` entry per method: the mean of its per-scene means."""
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    table = {}
+    for method in methods:
+        values = {scene: float(np.mean([r[metric] for r in rows
+                                        if r["method"] == method and r["scene"] == scene]))
+                  for scene in scenes}  # fmt: skip
+        table[method] = {**values, "mean": float(np.mean(list(values.values())))}
+    return table

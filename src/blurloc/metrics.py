@@ -77,6 +77,34 @@ def quaternion_errors_deg(
 ACCURACY_THRESHOLDS = ((0.25, 2.0), (0.5, 5.0), (5.0, 10.0))
 
 
+def error_statistics(values: np.ndarray) -> dict[str, float]:
+    """Median, mean and RMSE of per-frame errors."""
+    values = np.asarray(values, float)
+    return {"median": float(np.median(values)), "mean": float(np.mean(values)),
+            "rmse": float(np.sqrt(np.mean(values**2)))}  # fmt: skip
+
+
+def _hemisphere(quaternions: np.ndarray) -> np.ndarray:
+    """Unit quaternions with w >= 0."""
+    q = np.asarray(quaternions, float) / np.linalg.norm(quaternions, axis=-1, keepdims=True)
+    return q * np.where(q[:, :1] < 0, -1.0, 1.0)
+
+
+def combined_errors(
+    true_positions: np.ndarray,
+    true_quaternions: np.ndarray,
+    estimated_positions: np.ndarray,
+    estimated_quaternions: np.ndarray,
+    beta: float = 0.8,
+) -> np.ndarray:
+    """Per-frame value of eq. 14, ||c - c^|| + beta ||q - q^||, both quaternions unit with
+    w >= 0: this package's definition of the paper's undefined "combined" error."""
+    position = position_errors(true_positions, estimated_positions)
+    rotation = np.linalg.norm(_hemisphere(estimated_quaternions) - _hemisphere(true_quaternions),
+                              axis=1)  # fmt: skip
+    return position + beta * rotation
+
+
 def pose_summary(
     true_positions: np.ndarray,
     true_quaternions: np.ndarray,
@@ -96,21 +124,16 @@ def pose_summary(
     position = position_errors(true_positions, estimated_positions)
     orientation = quaternion_errors_deg(true_quaternions, estimated_quaternions)
 
-    def hemisphere(q: np.ndarray) -> np.ndarray:
-        q = np.asarray(q, float) / np.linalg.norm(q, axis=-1, keepdims=True)
-        return q * np.where(q[:, :1] < 0, -1.0, 1.0)
-
-    q_true, q_est = hemisphere(true_quaternions), hemisphere(estimated_quaternions)
+    q_true, q_est = _hemisphere(true_quaternions), _hemisphere(estimated_quaternions)
     residual = np.concatenate([np.asarray(estimated_positions) - np.asarray(true_positions),
                                q_est - q_true], axis=1)  # fmt: skip
-    summary = {"frames": int(position.size)}
-    for name, values in (("position_m", position), ("orientation_deg", orientation)):
-        summary[name] = {"median": float(np.median(values)), "mean": float(np.mean(values)),
-                         "rmse": float(np.sqrt(np.mean(values**2)))}  # fmt: skip
+    summary = {"frames": int(position.size), "position_m": error_statistics(position),
+               "orientation_deg": error_statistics(orientation)}  # fmt: skip
     summary["mae"] = float(np.mean(np.abs(residual)))
     summary["mse"] = float(np.mean(residual**2))
     summary["rmse"] = float(np.sqrt(summary["mse"]))
-    summary["combined"] = float(np.mean(position + beta * np.linalg.norm(q_est - q_true, axis=1)))
+    summary["combined"] = float(np.mean(combined_errors(
+        true_positions, true_quaternions, estimated_positions, estimated_quaternions, beta)))
     for metres, degrees in ACCURACY_THRESHOLDS:
         summary[f"within_{metres:g}m_{degrees:g}deg"] = float(
             np.mean((position <= metres) & (orientation <= degrees))

@@ -12,7 +12,7 @@ from tqdm.auto import tqdm
 
 from .data.sevenscenes import load_split
 from .geometry import rotation_to_quaternion
-from .metrics import pose_summary, position_errors, quaternion_errors_deg
+from .metrics import combined_errors, pose_summary, position_errors, quaternion_errors_deg
 from .train import PoseTrainConfig, load_pose_model, predict_poses, train_pose
 
 CONDITIONS = ("blurred", "wiener", "rnn", "sharp")
@@ -60,8 +60,8 @@ def run_pose_matrix(
         summaries.append(row)
         position = position_errors(true_positions, positions)
         orientation = quaternion_errors_deg(true_quaternions, quaternions)
-        unit = quaternions / np.linalg.norm(quaternions, axis=1, keepdims=True)
-        combined = position + config.beta * np.linalg.norm(unit - true_quaternions, axis=1)
+        combined = combined_errors(true_positions, true_quaternions, positions, quaternions,
+                                   config.beta)  # fmt: skip
         for index in range(len(position)):
             frames.append({"scene": scene, "condition": condition, "head": head,
                            "index": index, "position_m": float(position[index]),

@@ -33,7 +33,7 @@ from .geometry import rotation_to_quaternion
 from .metrics import pose_summary
 from .models.pose import LearnedWeighting, PoseConfig, PoseRegressor, pose_loss
 from .models.video_deblur import VideoDeblurConfig, VideoDeblurNet
-from .video import restore_sequence, to_tensor
+from .video import mean_frame_psnr, restore_sequence, to_tensor
 
 VALIDATION_FRACTION = 0.15
 CHECKPOINT_FORMAT = "blurloc-video-deblur-1"
@@ -118,12 +118,8 @@ def validation_psnr(
     model: VideoDeblurNet, sequences: list[tuple[np.ndarray, np.ndarray]], device: torch.device
 ) -> float:
     """Mean PSNR (dB, uint8 range) of the restored frames against the sharp ones."""
-    values = []
-    for blurred, sharp in sequences:
-        restored = restore_sequence(model, blurred, device).astype(np.float64)
-        mse = ((restored - sharp.astype(np.float64)) ** 2).mean(axis=(1, 2, 3))
-        values.extend(10 * np.log10(255.0**2 / np.maximum(mse, 1e-10)))
-    return float(np.mean(values))
+    return mean_frame_psnr([(restore_sequence(model, blurred, device), sharp)
+                            for blurred, sharp in sequences])  # fmt: skip
 
 
 def save_checkpoint(path: Path, payload: dict) -> None:

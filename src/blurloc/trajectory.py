@@ -10,7 +10,7 @@ import numpy as np
 
 from .data.sevenscenes import DataError, list_sequence
 from .geometry import quaternion_to_rotation, rotation_to_quaternion
-from .metrics import position_errors, quaternion_errors_deg
+from .metrics import error_statistics, position_errors, quaternion_errors_deg
 
 #: Quaternions whose norm differs from 1 by more than this are refused (not silently fixed).
 UNIT_TOLERANCE = 1e-3
@@ -101,11 +101,8 @@ def compare_trajectories(
     a, b = np.array(pairs).T
     position = position_errors(positions_a[a], positions_b[b])
     orientation = quaternion_errors_deg(quaternions_a[a], quaternions_b[b])
-    result = {"frames": len(pairs)}
-    for name, values in (("position_m", position), ("orientation_deg", orientation)):
-        result[name] = {"median": float(np.median(values)), "mean": float(np.mean(values)),
-                        "rmse": float(np.sqrt(np.mean(values**2)))}  # fmt: skip
-    return result
+    return {"frames": len(pairs), "position_m": error_statistics(position),
+            "orientation_deg": error_statistics(orientation)}
 
 
 def quaternions_to_poses(positions: np.ndarray, quaternions: np.ndarray) -> np.ndarray:

@@ -59,6 +59,13 @@ def restore_sequence(
     return np.concatenate(restored)
 
 
+def mean_frame_psnr(pairs: list[tuple[np.ndarray, np.ndarray]]) -> float:
+    """Mean over all frames of the PSNR (eq. 6, data range 255) of each (video, sharp video)
+    pair of uint8 (T, H, W, 3) arrays."""
+    return float(np.mean([psnr(truth, frame, 255.0) for video, sharp in pairs
+                          for frame, truth in zip(video, sharp, strict=True)]))  # fmt: skip
+
+
 def read_frame_folder(folder: str | os.PathLike) -> tuple[list[Path], np.ndarray]:
     """The frames of a video folder in name order: a 7-Scenes sequence (``frame-*.color.png``)
     or any folder of images. All frames must share one size; ValueError names the culprit."""
