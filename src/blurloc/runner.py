@@ -89,6 +89,24 @@ EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
         "pose_trajectories.png",
         "pose_trajectories.pdf",
     ),
+    "05_results_figures": (
+        "fig01_architecture.png",
+        "fig01_architecture.pdf",
+        "fig02_pipeline.png",
+        "fig02_pipeline.pdf",
+        "fig05_predicted_views.png",
+        "fig05_predicted_views.pdf",
+        "fig10_combined_error.png",
+        "fig10_combined_error.pdf",
+        "table3_pose_comparison.md",
+        "table3_pose_comparison.csv",
+        "paper_vs_reproduction.md",
+        "paper_vs_reproduction.csv",
+        "paper_vs_reproduction.png",
+        "paper_vs_reproduction.pdf",
+        "errata.md",
+        "errata.csv",
+    ),
 }
 
 
