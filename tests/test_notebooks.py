@@ -64,3 +64,15 @@ def test_notebooks_run_in_quick_mode(tmp_path: Path) -> None:
             if o.get("output_type") == "error"
         ]
         assert not errors, name
+
+
+def test_run_notebooks_command_passes_its_parameters(monkeypatch: pytest.MonkeyPatch) -> None:
+    import blurloc.runner
+    from blurloc.cli import main
+
+    calls = []
+    monkeypatch.setattr(blurloc.runner, "run_notebooks", lambda **kwargs: calls.append(kwargs))
+    assert main(["run-notebooks", "--data-root", "/data/7scenes", "--device", "cpu",
+                 "05_results_figures"]) == 0  # fmt: skip
+    assert calls == [{"quick": False, "names": ["05_results_figures"],
+                      "parameters": {"data_root": "/data/7scenes", "device": "cpu"}}]  # fmt: skip

@@ -16,6 +16,7 @@ from blurloc.data.scenes import SCENE_NAMES, make_scene
 from blurloc.data.synth import (
     HandheldTrajectory,
     SynthConfig,
+    prepare_data_root,
     render_exposure,
     synthesize,
 )
@@ -233,6 +234,16 @@ def test_bad_settings_are_refused(tmp_path: Path) -> None:
         SynthConfig(width=4)
     with pytest.raises(ValueError, match=">= 0"):
         SynthConfig(blur_strength=-1)
+
+
+def test_a_real_dataset_root_is_never_rendered_into(tmp_path: Path) -> None:
+    real = tmp_path / "7scenes"
+    (real / "chess").mkdir(parents=True)
+    (real / "chess" / "TrainSplit.txt").write_text("sequence1\n")
+    with pytest.raises(ValueError, match="not a stand-in"):
+        synthesize(real, scenes=["chess"], config=SynthConfig.quick(), progress=False)
+    assert prepare_data_root(real, quick=True, progress=False) == real
+    assert sorted(p.name for p in real.rglob("*")) == ["TrainSplit.txt", "chess"]
 
 
 def test_clearance_is_the_distance_to_the_nearest_surface() -> None:

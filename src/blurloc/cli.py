@@ -50,7 +50,10 @@ def _check_data(args: argparse.Namespace) -> int:
 def _run_notebooks(args: argparse.Namespace) -> int:
     from .runner import run_notebooks
 
-    run_notebooks(quick=args.quick, names=args.notebooks or None)
+    overrides = {"data_root": args.data_root, "results_dir": args.results_dir,
+                 "figures_dir": args.figures_dir, "device": args.device}  # fmt: skip
+    parameters = {key: value for key, value in overrides.items() if value is not None}
+    run_notebooks(quick=args.quick, names=args.notebooks or None, parameters=parameters)
     return 0
 
 
@@ -334,6 +337,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     run = commands.add_parser("run-notebooks", help="run the notebooks in order with papermill")
     run.add_argument("--quick", action="store_true", help="small sizes (as in the tests)")
+    run.add_argument("--data-root", help="7-Scenes-layout root (default: the stand-in)")
+    run.add_argument("--results-dir", help="default: results/ (build/quick/results with --quick)")
+    run.add_argument("--figures-dir", help="default: figures/ (build/quick/figures with --quick)")
+    run.add_argument("--device", help="auto (default: CUDA when present), cpu, cuda")
     run.add_argument("notebooks", nargs="*", help="notebook names (default: all, in order)")
     run.set_defaults(handler=_run_notebooks)
     return parser

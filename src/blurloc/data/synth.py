@@ -53,6 +53,8 @@ REAL_7SCENES_MOTION = {
 }
 
 FORMAT_VERSION = 4  # bump whenever rendering changes, so stale stand-ins are rendered again
+#: File that marks a folder as a rendered stand-in and records the settings and seed.
+STANDIN_MANIFEST = "standin.json"
 
 
 @dataclass(frozen=True)
@@ -368,6 +370,20 @@ def _manifest(config: SynthConfig, seed: int, scenes: list[str]) -> dict:
     return {"format": FORMAT_VERSION, "seed": seed, "scenes": scenes, "config": settings}
 
 
+def prepare_data_root(
+    root: str | os.PathLike, quick: bool = False, seed: int = 0, progress: bool = True
+) -> Path:
+    """The root a notebook reads: the stand-in at ``root``, rendered if missing or out of date
+    (:func:`synthesize` with the default or quick settings), or, when ``root`` holds another
+    dataset (a non-empty folder without ``standin.json``, e.g. the real 7-Scenes), ``root``
+    untouched."""
+    root = Path(root)
+    if root.is_dir() and any(root.iterdir()) and not (root / STANDIN_MANIFEST).exists():
+        return root
+    config = SynthConfig.quick() if quick else SynthConfig()
+    return synthesize(root, config=config, seed=seed, progress=progress)
+
+
 def synthesize(
     root: str | os.PathLike,
     scenes: list[str] | None = None,
@@ -389,10 +405,13 @@ def synthesize(
     if unknown:
         raise ValueError(f"unknown scene(s) {unknown}; choose from {', '.join(SCENE_NAMES)}")
     manifest = _manifest(config, seed, scenes)
-    manifest_path = root / "standin.json"
+    manifest_path = root / STANDIN_MANIFEST
     if not overwrite and manifest_path.exists():
         if json.loads(manifest_path.read_text()) == manifest:
             return root
+    if not overwrite and not manifest_path.exists() and root.is_dir() and any(root.iterdir()):
+        raise ValueError(f"{root}: not empty and not a stand-in (no {STANDIN_MANIFEST}); "
+                         "refusing to render into it")  # fmt: skip
     manifest_path.unlink(missing_ok=True)
 
     jobs = []
