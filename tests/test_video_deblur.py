@@ -13,6 +13,7 @@ from torch import nn
 
 from blurloc.cli import main
 from blurloc.data import check_data, load_split, read_image
+from blurloc.evaluation import registered_psnr
 from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
 from blurloc.train import (
     VideoTrainConfig,
@@ -178,3 +179,18 @@ def test_deblurred_root_keeps_the_layout(quick_root: Path, tmp_path: Path) -> No
     np.testing.assert_array_equal(copy.poses(), original.poses())
     _, frames = read_frame_folder(copy.folder)
     assert len(frames) == len(copy)
+
+
+def test_registered_psnr_finds_a_known_shift() -> None:
+    import skimage.data
+
+    image = skimage.data.astronaut()[100:228, 150:310].astype(np.float64) / 255.0
+    moved = cv2.warpAffine(image, np.float64([[1, 0, 1.5], [0, 1, -0.7]]), (160, 128),
+                           flags=cv2.INTER_CUBIC, borderMode=cv2.BORDER_REFLECT)  # fmt: skip
+    shift, plain, registered = registered_psnr(image, moved)
+    assert shift == pytest.approx(np.hypot(1.5, 0.7), abs=0.15)
+    assert registered > plain + 8.0
+    same = registered_psnr(image, image)
+    assert same[0] < 0.05 and same[2] > 100.0  # identical images stay (nearly) identical
+    with pytest.raises(ValueError, match="share a shape"):
+        registered_psnr(image, image[:64])
