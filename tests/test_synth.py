@@ -258,3 +258,12 @@ def test_clearance_is_the_distance_to_the_nearest_surface() -> None:
     )
     clearance = scene.clearance(np.array([[2.0, 2.0, 1.0], [0.5, 2.0, 2.0], [5.0, 2.0, 1.0]]))
     np.testing.assert_allclose(clearance, [1.0, 0.5, -1.0])
+
+
+def test_an_interrupted_render_is_rendered_again(tmp_path: Path) -> None:
+    root = tmp_path / "standin"
+    (root / "chess").mkdir(parents=True)
+    (root / "standin.json").write_text('{"incomplete": true}')  # what a render leaves if killed
+    synthesize(root, scenes=["chess"], config=SynthConfig.quick(), progress=False, workers=1)
+    assert check_data(root)["scenes"]["chess"]["test"]["frames"] == 8
+    assert "incomplete" not in (root / "standin.json").read_text()

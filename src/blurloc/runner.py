@@ -88,6 +88,8 @@ EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
         "pose_training_curves.pdf",
         "pose_trajectories.png",
         "pose_trajectories.pdf",
+        "pose_long_sequences.md",
+        "pose_long_sequences.csv",
     ),
     "05_results_figures": (
         "fig01_architecture.png",

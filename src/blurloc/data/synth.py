@@ -412,7 +412,8 @@ def synthesize(
     if not overwrite and not manifest_path.exists() and root.is_dir() and any(root.iterdir()):
         raise ValueError(f"{root}: not empty and not a stand-in (no {STANDIN_MANIFEST}); "
                          "refusing to render into it")  # fmt: skip
-    manifest_path.unlink(missing_ok=True)
+    root.mkdir(parents=True, exist_ok=True)  # an interrupted render stays a stand-in, unfinished
+    manifest_path.write_text(json.dumps({"incomplete": True}))
 
     jobs = []
     for scene in scenes:
