@@ -1,5 +1,6 @@
-"""Measurements behind notebooks 01 and 02: blind-estimation accuracy on natural photographs,
-and per-frame PSNR/SSIM of single-image deblurring methods on a stand-in split."""
+"""Measurements behind notebooks 01-03: blind-estimation accuracy on natural photographs,
+per-frame PSNR/SSIM of single-image deblurring methods on a stand-in split, and how much of a
+PSNR is sub-pixel misregistration."""
 
 from __future__ import annotations
 
