@@ -13,7 +13,7 @@ from torch import nn
 
 from blurloc.cli import main
 from blurloc.data import check_data, load_split, read_image
-from blurloc.evaluation import registered_psnr
+from blurloc.evaluation import photo_video, registered_psnr
 from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
 from blurloc.train import (
     VideoTrainConfig,
@@ -23,6 +23,7 @@ from blurloc.train import (
 )
 from blurloc.video import (
     DEFAULT_CHECKPOINT,
+    mean_frame_psnr,
     read_frame_folder,
     restore_sequence,
     write_deblurred_root,
@@ -194,3 +195,23 @@ def test_registered_psnr_finds_a_known_shift() -> None:
     assert same[0] < 0.05 and same[2] > 100.0  # identical images stay (nearly) identical
     with pytest.raises(ValueError, match="share a shape"):
         registered_psnr(image, image[:64])
+
+
+def test_photo_video_blurs_with_speed_and_the_shipped_network_does_not_make_it_worse() -> None:
+    import skimage.data
+
+    photo = skimage.data.coffee()
+    still, still_sharp = photo_video(photo, frames=3, subframes=1, seed=1)
+    slow, slow_sharp = photo_video(photo, frames=6, step_px=0.5, seed=1)
+    fast, fast_sharp = photo_video(photo, frames=6, step_px=1.5, seed=1)
+    assert still.shape == (3, 120, 160, 3) and still.dtype == np.uint8
+    pairs = ((still, still_sharp), (slow, slow_sharp), (fast, fast_sharp))
+    scores = [mean_frame_psnr(list(zip(s, b, strict=True))) for b, s in pairs]
+    assert scores[0] > 38.0 > scores[1] > scores[2]  # one sub-frame: only the noise (σ = 0.01)
+    model = load_video_deblur(DEFAULT_CHECKPOINT)
+    for blurred, sharp in ((slow, slow_sharp), (fast, fast_sharp)):
+        before = mean_frame_psnr(list(zip(sharp, blurred, strict=True)))
+        after = mean_frame_psnr(list(zip(sharp, restore_sequence(model, blurred), strict=True)))
+        assert after > before - 0.1, (before, after)
+    with pytest.raises(ValueError, match="RGB"):
+        photo_video(photo[..., 0])
