@@ -17,7 +17,9 @@ from skimage.restoration import richardson_lucy, unsupervised_wiener, wiener
 from tqdm.auto import tqdm
 
 from .blur import blur_image, estimate_motion_blur, motion_kernel
+from .data.render import srgb_to_linear
 from .data.sevenscenes import list_scenes, load_split, read_image
+from .data.synth import to_uint8
 from .deconv import blind_kernel, wiener_deconvolve
 from .images import as_float_image
 from .metrics import psnr, ssim
@@ -232,8 +234,8 @@ def photo_video(
         raise ValueError("photo must be RGB; frames and subframes must be positive")
     width, height = size
     scale = 2  # sub-frames are rendered at twice the output size, then area-averaged down
-    linear = cv2.resize(np.float32(photo), (3 * width * scale, 3 * height * scale),
-                        interpolation=cv2.INTER_AREA) ** 2.2  # fmt: skip
+    linear = srgb_to_linear(cv2.resize(np.float32(photo), (3 * width * scale, 3 * height * scale),
+                                       interpolation=cv2.INTER_AREA))  # fmt: skip
     direction = np.array([np.cos(np.radians(angle_deg)), np.sin(np.radians(angle_deg))])
     rng = np.random.default_rng(seed)
     blurred, sharp = [], []
@@ -247,8 +249,7 @@ def photo_video(
             view = cv2.warpAffine(linear, matrix, (width * scale, height * scale),
                                   borderMode=cv2.BORDER_REFLECT)  # bilinear
             views.append(cv2.resize(view, size, interpolation=cv2.INTER_AREA))
-        noisy = np.mean(views, axis=0) ** (1 / 2.2) + rng.normal(0, noise_sigma, views[0].shape)
-        blurred.append(np.clip(np.round(noisy * 255), 0, 255).astype(np.uint8))
-        middle = views[subframes // 2] ** (1 / 2.2)
-        sharp.append(np.clip(np.round(middle * 255), 0, 255).astype(np.uint8))
+        noise = rng.normal(0, noise_sigma, views[0].shape)
+        blurred.append(to_uint8(np.mean(views, axis=0), noise))
+        sharp.append(to_uint8(views[subframes // 2]))
     return np.stack(blurred), np.stack(sharp)

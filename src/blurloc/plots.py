@@ -560,3 +560,18 @@ def plot_error_distributions(
                       max(max(v.values()) for v in paper.values()) * 1.05)  # fmt: skip
         axis.legend(fontsize=6, loc="upper left")
     return figure
+
+
+def plot_ratios(groups: dict[str, list[float]], title: str) -> plt.Figure:
+    """Measured / printed ratios, one column of dots per group ({label: ratios}), log scale,
+    with the line of agreement at 1."""
+    figure, axis = plt.subplots(figsize=(9, 3.2))
+    for index, ratios in enumerate(groups.values()):
+        spread = np.linspace(-0.15, 0.15, len(ratios))
+        axis.plot(np.full(len(ratios), index) + spread, ratios, "o", ms=4, alpha=0.8)
+    axis.axhline(1.0, color="#555555", ls=":")
+    axis.set_yscale("log")
+    axis.set_xticks(range(len(groups)), list(groups), rotation=35, ha="right", fontsize=7)
+    axis.set_ylabel("measured / printed")
+    axis.set_title(title)
+    return figure

@@ -81,3 +81,19 @@ def mean_pose_baseline(root: str | os.PathLike, scene: str) -> dict:
     mean_q = np.tile(rotation_to_quaternion(mean_rotation), (len(test), 1))
     mean_p = np.tile(train[:, :3, 3].mean(axis=0), (len(test), 1))
     return pose_summary(test[:, :3, 3], true_q, mean_p, mean_q)
+
+
+def predict_test_frames(model_path: str | os.PathLike, root: str | os.PathLike,
+                           scene: str) -> dict:  # fmt: skip
+    """A saved pose model's predictions for every test frame of ``scene`` under ``root``, with
+    each frame's identity: ``frames`` [(sequence, frame id)], ``position``, ``quaternion``, the
+    true ``true_position``/``true_quaternion``, and per-frame ``position_error`` (m, eq. 12) and
+    ``orientation_error`` (degrees, eq. 13); rows in sequence order, then frame order."""
+    model, config = load_pose_model(model_path)
+    sequences = load_split(root, scene, "test")
+    position, quaternion, true_position, true_quaternion = predict_poses(model, sequences, config)
+    return {"frames": [(s, frame) for s in sequences for frame in s.frame_ids],
+            "position": position, "quaternion": quaternion,
+            "true_position": true_position, "true_quaternion": true_quaternion,
+            "position_error": position_errors(true_position, position),
+            "orientation_error": quaternion_errors_deg(true_quaternion, quaternion)}  # fmt: skip

@@ -370,6 +370,11 @@ def _manifest(config: SynthConfig, seed: int, scenes: list[str]) -> dict:
     return {"format": FORMAT_VERSION, "seed": seed, "scenes": scenes, "config": settings}
 
 
+def _foreign_dataset(root: Path) -> bool:
+    """True when ``root`` holds something other than a stand-in (non-empty, no manifest)."""
+    return root.is_dir() and any(root.iterdir()) and not (root / STANDIN_MANIFEST).exists()
+
+
 def prepare_data_root(
     root: str | os.PathLike, quick: bool = False, seed: int = 0, progress: bool = True
 ) -> Path:
@@ -378,7 +383,7 @@ def prepare_data_root(
     dataset (a non-empty folder without ``standin.json``, e.g. the real 7-Scenes), ``root``
     untouched."""
     root = Path(root)
-    if root.is_dir() and any(root.iterdir()) and not (root / STANDIN_MANIFEST).exists():
+    if _foreign_dataset(root):
         return root
     config = SynthConfig.quick() if quick else SynthConfig()
     return synthesize(root, config=config, seed=seed, progress=progress)
@@ -409,7 +414,7 @@ def synthesize(
     if not overwrite and manifest_path.exists():
         if json.loads(manifest_path.read_text()) == manifest:
             return root
-    if not overwrite and not manifest_path.exists() and root.is_dir() and any(root.iterdir()):
+    if not overwrite and _foreign_dataset(root):
         raise ValueError(f"{root}: not empty and not a stand-in (no {STANDIN_MANIFEST}); "
                          "refusing to render into it")  # fmt: skip
     root.mkdir(parents=True, exist_ok=True)  # an interrupted render stays a stand-in, unfinished
