@@ -1,0 +1,102 @@
+"""Camera poses as the package passes them around.
+
+One quaternion convention holds everywhere in blurloc: unit quaternions are stored **scalar
+first**, ``(w, x, y, z)``, in the **canonical hemisphere** ``w >= 0`` (``q`` and ``-q`` are the same
+rotation). Every conversion goes through :class:`scipy.spatial.transform.Rotation`.
+
+A :class:`PosePair` holds the reference (ground-truth) poses and the estimated poses of the same
+frames, in that order (the order of evo and of the metrics in :mod:`blurloc.metrics`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+
+def to_quaternions(rotations: Rotation) -> np.ndarray:
+    """Unit quaternions ``(w, x, y, z)`` with ``w >= 0`` of ``rotations``.
+
+    Parameters
+    ----------
+    rotations : scipy.spatial.transform.Rotation
+        One or several rotations.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (N, 4) (or (4,) for a single rotation), float64.
+    """
+    return rotations.as_quat(canonical=True, scalar_first=True)
+
+
+def from_quaternions(quaternions: np.ndarray) -> Rotation:
+    """Rotations of quaternions ``(w, x, y, z)``; they are normalised first.
+
+    Parameters
+    ----------
+    quaternions : numpy.ndarray
+        Shape (N, 4) or (4,), scalar first, any non-zero norm.
+
+    Returns
+    -------
+    scipy.spatial.transform.Rotation
+
+    Raises
+    ------
+    ValueError
+        If a quaternion is zero or not finite.
+    """
+    q = np.asarray(quaternions, float)
+    if q.shape[-1] != 4 or not np.all(np.isfinite(q)) or np.any(np.linalg.norm(q, axis=-1) < 1e-12):
+        raise ValueError("quaternions must be finite, non-zero (..., 4) arrays (w, x, y, z)")
+    return Rotation.from_quat(q, scalar_first=True)
+
+
+@dataclass(frozen=True)
+class PosePair:
+    """Reference and estimated poses of the same N frames, reference first.
+
+    Attributes
+    ----------
+    reference_positions, estimate_positions : numpy.ndarray
+        Camera positions (N, 3), metres, world frame.
+    reference_quaternions, estimate_quaternions : numpy.ndarray
+        Camera-to-world orientations (N, 4), ``(w, x, y, z)``, unit, ``w >= 0``
+        (normalised and moved to that hemisphere on construction).
+    """
+
+    reference_positions: np.ndarray
+    reference_quaternions: np.ndarray
+    estimate_positions: np.ndarray
+    estimate_quaternions: np.ndarray
+
+    def __post_init__(self) -> None:
+        for name in ("reference_positions", "estimate_positions"):
+            value = np.asarray(getattr(self, name), float)
+            if value.ndim != 2 or value.shape[1] != 3 or not np.all(np.isfinite(value)):
+                raise ValueError(f"{name} must be a finite (N, 3) array, got shape {value.shape}")
+            object.__setattr__(self, name, value)
+        for name in ("reference_quaternions", "estimate_quaternions"):
+            value = np.asarray(getattr(self, name), float)
+            if value.ndim != 2:
+                raise ValueError(f"{name} must be an (N, 4) array, got shape {value.shape}")
+            object.__setattr__(self, name, to_quaternions(from_quaternions(value)))
+        sizes = {len(getattr(self, n)) for n in self.__dataclass_fields__}
+        if len(sizes) != 1:
+            raise ValueError(f"pose arrays differ in length: {sorted(sizes)}")
+
+    def __len__(self) -> int:
+        return len(self.reference_positions)
+
+    @property
+    def reference_rotations(self) -> Rotation:
+        """The reference orientations as a :class:`~scipy.spatial.transform.Rotation`."""
+        return from_quaternions(self.reference_quaternions)
+
+    @property
+    def estimate_rotations(self) -> Rotation:
+        """The estimated orientations as a :class:`~scipy.spatial.transform.Rotation`."""
+        return from_quaternions(self.estimate_quaternions)
