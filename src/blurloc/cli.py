@@ -232,6 +232,9 @@ def _eval_pose(args: argparse.Namespace) -> int:
 def _pose_error(args: argparse.Namespace) -> int:
     from .trajectory import compare_trajectories
 
+    if not args.max_difference > 0:  # also refuses NaN
+        raise ValueError(f"--max-difference must be a positive number of seconds, got "
+                         f"{args.max_difference}")  # fmt: skip
     print(json.dumps(compare_trajectories(args.ground_truth, args.estimate, args.max_difference)))
     return 0
 
@@ -332,7 +335,8 @@ def build_parser() -> argparse.ArgumentParser:
     error = commands.add_parser("pose-error", help="errors between two trajectories (JSON)")
     error.add_argument("ground_truth", help="TUM file or 7-Scenes sequence folder")
     error.add_argument("estimate", help="TUM file or 7-Scenes sequence folder")
-    error.add_argument("--max-difference", type=float, default=0.01, help="seconds")
+    error.add_argument("--max-difference", type=float, default=0.01,
+                       help="largest stamp difference of a matched pair (seconds, > 0)")
     error.set_defaults(handler=_pose_error)
 
     run = commands.add_parser("run-notebooks", help="run the notebooks in order with papermill")

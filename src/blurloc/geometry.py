@@ -2,13 +2,15 @@
 
 Conventions (those of 7-Scenes): a pose is a 4x4 camera-to-world matrix in metres; the camera
 frame is OpenCV's (x right, y down, z forward); pixel centres sit at integer coordinates.
-Quaternions are (w, x, y, z), unit, on the hemisphere w >= 0.
+Quaternions follow :mod:`blurloc.poses`: (w, x, y, z), unit, w >= 0.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from scipy.spatial.transform import Rotation
+
+from .poses import from_quaternions, rotation_angles_deg, to_quaternions
 
 #: 7-Scenes colour intrinsics at 640x480 (Kinect v1): fx = fy = 585, principal point (320, 240).
 SEVEN_SCENES_FOCAL = 585.0
@@ -83,33 +85,78 @@ def backproject(
 
 
 def rotation_to_quaternion(rotation: np.ndarray) -> np.ndarray:
-    """Unit quaternion(s) (w, x, y, z) with w >= 0 of rotation matrices (..., 3, 3)."""
-    xyzw = Rotation.from_matrix(np.asarray(rotation, float)).as_quat()
-    wxyz = np.concatenate([xyzw[..., 3:], xyzw[..., :3]], axis=-1)
-    return np.where(wxyz[..., :1] < 0, -wxyz, wxyz)
+    """Quaternions of rotation matrices, in the convention of :mod:`blurloc.poses`.
+
+    Parameters
+    ----------
+    rotation : numpy.ndarray
+        Rotation matrices, shape (N, 3, 3) or (3, 3).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (N, 4) or (4,): unit ``(w, x, y, z)`` with ``w >= 0``.
+    """
+    return to_quaternions(Rotation.from_matrix(np.asarray(rotation, float)))
 
 
 def quaternion_to_rotation(quaternion: np.ndarray) -> np.ndarray:
-    """Rotation matrices (..., 3, 3) of quaternions (w, x, y, z); normalised first."""
-    q = np.asarray(quaternion, float)
-    norm = np.linalg.norm(q, axis=-1, keepdims=True)
-    if np.any(norm < 1e-12) or not np.all(np.isfinite(q)):
-        raise ValueError("quaternion is zero or not finite")
-    q = q / norm
-    return Rotation.from_quat(np.concatenate([q[..., 1:], q[..., :1]], axis=-1)).as_matrix()
+    """Rotation matrices of quaternions ``(w, x, y, z)``; they are normalised first.
+
+    Parameters
+    ----------
+    quaternion : numpy.ndarray
+        Shape (N, 4) or (4,), finite and non-zero.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (N, 3, 3) or (3, 3).
+    """
+    return from_quaternions(quaternion).as_matrix()
 
 
-def rotation_angle_deg(rotation_a: np.ndarray, rotation_b: np.ndarray) -> np.ndarray:
-    """Angle (degrees) of the rotation taking ``rotation_a`` to ``rotation_b``: the α of eq. 13
-    (2 cos α = trace(R_a^T R_b) - 1), taken from the rotation vector, which stays precise for
-    the small angles between consecutive frames where arccos of the trace does not."""
-    relative = np.swapaxes(np.asarray(rotation_a, float), -1, -2) @ np.asarray(rotation_b, float)
-    return np.degrees(Rotation.from_matrix(relative).magnitude())
+def rotation_defect(rotation: np.ndarray, tolerance: float = 1e-2) -> str | None:
+    """Why a 3x3 matrix is not a rotation, in words, or None when it is one.
+
+    Parameters
+    ----------
+    rotation : numpy.ndarray
+        Shape (3, 3).
+    tolerance : float
+        Largest accepted entry of ``|R^T R - I|``.
+
+    Returns
+    -------
+    str or None
+        ``"not a rotation: determinant -1"`` for a mirror, ``"not orthonormal: ..."`` when
+        ``R^T R`` is not the identity, None for a proper rotation.
+    """
+    error = orthonormality_error(rotation)
+    if error > tolerance:
+        return f"not orthonormal: max |R^T R - I| = {error:.3g} > {tolerance:g}"
+    determinant = float(np.linalg.det(rotation))
+    if determinant <= 0:
+        return f"not a rotation: determinant {determinant:.3g}"
+    return None
 
 
 def frame_to_frame_motion(poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Camera step (metres) and rotation (degrees) between consecutive poses (N, 4, 4)."""
+    """Camera step and rotation between consecutive poses.
+
+    Parameters
+    ----------
+    poses : numpy.ndarray
+        Camera-to-world poses, shape (N, 4, 4), metres.
+
+    Returns
+    -------
+    steps : numpy.ndarray
+        Shape (N - 1,), metres.
+    angles : numpy.ndarray
+        Shape (N - 1,), degrees (the α of eq. 13 between neighbours).
+    """
     poses = np.asarray(poses, float)
     steps = np.linalg.norm(np.diff(poses[:, :3, 3], axis=0), axis=1)
-    angles = rotation_angle_deg(poses[:-1, :3, :3], poses[1:, :3, :3])
-    return steps, angles
+    rotations = Rotation.from_matrix(poses[:, :3, :3])
+    return steps, rotation_angles_deg(rotations[:-1], rotations[1:])

@@ -1,4 +1,5 @@
-"""Image-quality metrics: PSNR (eq. 5-6) and SSIM (eq. 7)."""
+"""Image-quality metrics, PSNR (eq. 5-6) and SSIM (eq. 7), and pose errors (eq. 12-17) of a
+:class:`~blurloc.poses.PosePair`."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import numpy as np
 from skimage.metrics import structural_similarity
 
 from .images import check_image
+from .poses import PosePair, rotation_angles_deg
 
 
 def _pair(reference: np.ndarray, estimate: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -16,9 +18,24 @@ def _pair(reference: np.ndarray, estimate: np.ndarray) -> tuple[np.ndarray, np.n
 
 
 def psnr(reference: np.ndarray, estimate: np.ndarray, data_range: float) -> float:
-    """Peak signal-to-noise ratio in dB: 10 log10(R^2 / MSE) (eq. 5-6), MSE over all pixels and
-    channels. ``data_range`` R is explicit: 255 for uint8, 1 for [0, 1] floats (eq. 6 uses 255).
-    Identical images give inf."""
+    """Peak signal-to-noise ratio, ``10 log10(R^2 / MSE)``, MSE over all pixels and channels.
+
+    Parameters
+    ----------
+    reference, estimate : numpy.ndarray
+        Images of one shape, (H, W) or (H, W, 3), uint8 or float.
+    data_range : float
+        R: 255 for uint8, 1 for [0, 1] floats (eq. 6 uses 255).
+
+    Returns
+    -------
+    float
+        dB; ``inf`` for identical images.
+
+    References
+    ----------
+    Eq. 5-6 of the paper.
+    """
     if data_range <= 0:
         raise ValueError("data_range must be > 0")
     reference, estimate = _pair(reference, estimate)
@@ -27,9 +44,27 @@ def psnr(reference: np.ndarray, estimate: np.ndarray, data_range: float) -> floa
 
 
 def ssim(reference: np.ndarray, estimate: np.ndarray, data_range: float) -> float:
-    """Structural similarity (eq. 7) through scikit-image with the settings of Wang et al. (2004):
+    """Structural similarity through scikit-image with the settings of Wang et al. (2004).
+
     Gaussian window σ = 1.5 (11x11), K1 = 0.01, K2 = 0.03, population covariances; RGB is the
-    mean of the per-channel SSIMs."""
+    mean of the per-channel SSIMs.
+
+    Parameters
+    ----------
+    reference, estimate : numpy.ndarray
+        Images of one shape, (H, W) or (H, W, 3), uint8 or float.
+    data_range : float
+        255 for uint8, 1 for [0, 1] floats.
+
+    Returns
+    -------
+    float
+        SSIM, at most 1.
+
+    References
+    ----------
+    Eq. 7 of the paper.
+    """
     if data_range <= 0:
         raise ValueError("data_range must be > 0")
     reference, estimate = _pair(reference, estimate)
@@ -39,38 +74,44 @@ def ssim(reference: np.ndarray, estimate: np.ndarray, data_range: float) -> floa
     ))  # fmt: skip
 
 
-def position_errors(true_positions: np.ndarray, estimated_positions: np.ndarray) -> np.ndarray:
-    """Eq. 12: Euclidean distance ||C_est - C_gt||_2 per frame (metres). Arrays (N, 3)."""
-    true_positions = np.asarray(true_positions, float)
-    estimated_positions = np.asarray(estimated_positions, float)
-    if true_positions.shape != estimated_positions.shape or true_positions.shape[-1] != 3:
-        raise ValueError(f"positions must both be (N, 3), got {true_positions.shape} and "
-                         f"{estimated_positions.shape}")  # fmt: skip
-    return np.linalg.norm(estimated_positions - true_positions, axis=-1)
+def position_errors(pair: PosePair) -> np.ndarray:
+    """Position error of every frame, ``||c_est - c_ref||_2``.
+
+    Parameters
+    ----------
+    pair : PosePair
+        Reference and estimated poses of N frames.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (N,), metres.
+
+    References
+    ----------
+    Eq. 12 of the paper.
+    """
+    return np.linalg.norm(pair.estimate_positions - pair.reference_positions, axis=-1)
 
 
-def rotation_errors_deg(true_rotations: np.ndarray, estimated_rotations: np.ndarray) -> np.ndarray:
-    """Eq. 13: the smallest angle |α| aligning R_est with R_gt, 2 cos|α| + 1 = trace(R_gt^T
-    R_est) (the paper prints the trace without the +1 of the identity), per frame, degrees.
-    Arrays (N, 3, 3). Equal to 2 arccos|<q_gt, q_est>| for unit quaternions."""
-    true_rotations = np.asarray(true_rotations, float)
-    estimated_rotations = np.asarray(estimated_rotations, float)
-    trace = np.einsum("nji,nji->n", true_rotations, estimated_rotations)
-    return np.degrees(np.arccos(np.clip((trace - 1.0) / 2.0, -1.0, 1.0)))
+def orientation_errors_deg(pair: PosePair) -> np.ndarray:
+    """Orientation error of every frame: the angle of ``R_ref^T R_est``.
 
+    Parameters
+    ----------
+    pair : PosePair
+        Reference and estimated poses of N frames.
 
-def quaternion_errors_deg(
-    true_quaternions: np.ndarray, estimated_quaternions: np.ndarray
-) -> np.ndarray:
-    """2 arccos |<q_gt, q_est>| per frame in degrees (the PoseNet/AtLoc orientation error), for
-    quaternions (N, 4); they are normalised first, and q and -q are the same rotation."""
-    q1 = np.asarray(true_quaternions, float)
-    q2 = np.asarray(estimated_quaternions, float)
-    norms = np.linalg.norm(q1, axis=-1) * np.linalg.norm(q2, axis=-1)
-    if q1.shape != q2.shape or q1.shape[-1] != 4 or np.any(norms < 1e-12):
-        raise ValueError("quaternions must be non-zero (N, 4) arrays of the same shape")
-    dot = np.abs(np.sum(q1 * q2, axis=-1)) / norms
-    return np.degrees(2.0 * np.arccos(np.clip(dot, 0.0, 1.0)))
+    Returns
+    -------
+    numpy.ndarray
+        Shape (N,), degrees in [0, 180]; ``2 arccos |<q_ref, q_est>|``.
+
+    References
+    ----------
+    Eq. 13 of the paper (see :func:`blurloc.poses.rotation_angles_deg`).
+    """
+    return rotation_angles_deg(pair.reference_rotations, pair.estimate_rotations)
 
 
 #: Thresholds of the accuracy shares: (metres, degrees). The paper printed the last as "0.5cm".
@@ -78,62 +119,86 @@ ACCURACY_THRESHOLDS = ((0.25, 2.0), (0.5, 5.0), (5.0, 10.0))
 
 
 def error_statistics(values: np.ndarray) -> dict[str, float]:
-    """Median, mean and RMSE of per-frame errors."""
+    """Median, mean and root-mean-square of per-frame errors.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        Shape (N,), any unit.
+
+    Returns
+    -------
+    dict
+        ``{"median", "mean", "rmse"}`` as floats, in the unit of ``values``.
+    """
     values = np.asarray(values, float)
     return {"median": float(np.median(values)), "mean": float(np.mean(values)),
             "rmse": float(np.sqrt(np.mean(values**2)))}  # fmt: skip
 
 
-def _hemisphere(quaternions: np.ndarray) -> np.ndarray:
-    """Unit quaternions with w >= 0."""
-    q = np.asarray(quaternions, float) / np.linalg.norm(quaternions, axis=-1, keepdims=True)
-    return q * np.where(q[:, :1] < 0, -1.0, 1.0)
+def combined_errors(pair: PosePair, beta: float = 0.8) -> np.ndarray:
+    """Per-frame value of eq. 14, ``||c - c^|| + beta ||q - q^||``.
+
+    This is the package's definition of the paper's undefined "combined" error; both
+    quaternions are unit with ``w >= 0`` (the convention of :mod:`blurloc.poses`).
+
+    Parameters
+    ----------
+    pair : PosePair
+        Reference and estimated poses of N frames.
+    beta : float
+        Weight of the quaternion distance (the paper's 0.8).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (N,), metres plus ``beta`` times unit-quaternion distance.
+
+    References
+    ----------
+    Eq. 14 of the paper.
+    """
+    rotation = np.linalg.norm(pair.estimate_quaternions - pair.reference_quaternions, axis=1)
+    return position_errors(pair) + beta * rotation
 
 
-def combined_errors(
-    true_positions: np.ndarray,
-    true_quaternions: np.ndarray,
-    estimated_positions: np.ndarray,
-    estimated_quaternions: np.ndarray,
-    beta: float = 0.8,
-) -> np.ndarray:
-    """Per-frame value of eq. 14, ||c - c^|| + beta ||q - q^||, both quaternions unit with
-    w >= 0: this package's definition of the paper's undefined "combined" error."""
-    position = position_errors(true_positions, estimated_positions)
-    rotation = np.linalg.norm(_hemisphere(estimated_quaternions) - _hemisphere(true_quaternions),
-                              axis=1)  # fmt: skip
-    return position + beta * rotation
-
-
-def pose_summary(
-    true_positions: np.ndarray,
-    true_quaternions: np.ndarray,
-    estimated_positions: np.ndarray,
-    estimated_quaternions: np.ndarray,
-    beta: float = 0.8,
-) -> dict:
+def pose_summary(pair: PosePair, beta: float = 0.8) -> dict:
     """Every pose metric of one set of frames.
 
-    - position_m / orientation_deg: median, mean and RMSE of eq. 12 and eq. 13;
-    - mae / mse / rmse (eq. 15-17) over the pose vector y = (t_x, t_y, t_z, q_w, q_x, q_y, q_z)
-      (metres and unit-quaternion components, w >= 0), all components of all frames;
-    - combined: the paper never defines its "combined" error; here it is the mean per-frame
-      value of eq. 14, ||c - c^|| + beta ||q - q^||, with the paper's beta = 0.8;
-    - within_*: share of frames within each of ACCURACY_THRESHOLDS.
-    """
-    position = position_errors(true_positions, estimated_positions)
-    orientation = quaternion_errors_deg(true_quaternions, estimated_quaternions)
+    Parameters
+    ----------
+    pair : PosePair
+        Reference and estimated poses of N frames.
+    beta : float
+        Weight of the quaternion term of eq. 14.
 
-    q_true, q_est = _hemisphere(true_quaternions), _hemisphere(estimated_quaternions)
-    residual = np.concatenate([np.asarray(estimated_positions) - np.asarray(true_positions),
-                               q_est - q_true], axis=1)  # fmt: skip
+    Returns
+    -------
+    dict
+        - ``frames``: N;
+        - ``position_m`` / ``orientation_deg``: median, mean and RMSE of eq. 12 (metres) and
+          eq. 13 (degrees);
+        - ``mae`` / ``mse`` / ``rmse`` (eq. 15-17) over the pose vector
+          ``y = (t_x, t_y, t_z, q_w, q_x, q_y, q_z)`` (metres and unit-quaternion components,
+          ``w >= 0``), all components of all frames;
+        - ``combined``: the mean per-frame value of eq. 14 (:func:`combined_errors`);
+        - ``within_<m>m_<deg>deg``: share of frames within each of ACCURACY_THRESHOLDS.
+
+    References
+    ----------
+    Eq. 12-17 of the paper.
+    """
+    position = position_errors(pair)
+    orientation = orientation_errors_deg(pair)
+    residual = np.concatenate([pair.estimate_positions - pair.reference_positions,
+                               pair.estimate_quaternions - pair.reference_quaternions],
+                              axis=1)  # fmt: skip
     summary = {"frames": int(position.size), "position_m": error_statistics(position),
                "orientation_deg": error_statistics(orientation)}  # fmt: skip
     summary["mae"] = float(np.mean(np.abs(residual)))
     summary["mse"] = float(np.mean(residual**2))
     summary["rmse"] = float(np.sqrt(summary["mse"]))
-    summary["combined"] = float(np.mean(combined_errors(
-        true_positions, true_quaternions, estimated_positions, estimated_quaternions, beta)))
+    summary["combined"] = float(np.mean(combined_errors(pair, beta)))
     for metres, degrees in ACCURACY_THRESHOLDS:
         summary[f"within_{metres:g}m_{degrees:g}deg"] = float(
             np.mean((position <= metres) & (orientation <= degrees))

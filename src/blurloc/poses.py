@@ -55,6 +55,30 @@ def from_quaternions(quaternions: np.ndarray) -> Rotation:
     return Rotation.from_quat(q, scalar_first=True)
 
 
+def rotation_angles_deg(reference: Rotation, estimate: Rotation) -> np.ndarray:
+    """Angle of the rotation taking each reference orientation to its estimate.
+
+    The α of eq. 13, ``2 cos α + 1 = trace(R_ref^T R_est)``, read from the rotation vector of
+    ``R_ref^T R_est`` (which stays precise for small angles, where arccos of the trace does not);
+    equal to ``2 arccos |<q_ref, q_est>|``, the PoseNet/AtLoc orientation error.
+
+    Parameters
+    ----------
+    reference, estimate : scipy.spatial.transform.Rotation
+        N rotations each (or one, broadcast against the other).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (N,), degrees in [0, 180].
+
+    References
+    ----------
+    Eq. 13 of the paper.
+    """
+    return np.degrees((reference.inv() * estimate).magnitude())
+
+
 @dataclass(frozen=True)
 class PosePair:
     """Reference and estimated poses of the same N frames, reference first.

@@ -1,8 +1,13 @@
 """Trajectory files: TUM format (``timestamp tx ty tz qx qy qz qw``, camera-to-world), their
-association by timestamp, and pose errors between two trajectories (``blurloc pose-error``)."""
+association by timestamp, and pose errors between two trajectories (``blurloc pose-error``).
+
+TUM files store the quaternion scalar last; in memory it is scalar first, ``w >= 0``, as
+everywhere in the package (:mod:`blurloc.poses`).
+"""
 
 from __future__ import annotations
 
+import heapq
 import os
 from pathlib import Path
 
@@ -10,14 +15,32 @@ import numpy as np
 
 from .data.sevenscenes import DataError, list_sequence
 from .geometry import quaternion_to_rotation, rotation_to_quaternion
-from .metrics import error_statistics, position_errors, quaternion_errors_deg
+from .metrics import error_statistics, orientation_errors_deg, position_errors
+from .poses import PosePair, from_quaternions, to_quaternions
 
 #: Quaternions whose norm differs from 1 by more than this are refused (not silently fixed).
 UNIT_TOLERANCE = 1e-3
+#: Two lines of one file with the same stamp must agree to this (metres, quaternion units).
+DUPLICATE_TOLERANCE = 1e-9
 
 
 def write_tum(path: str | os.PathLike, stamps: np.ndarray, poses: np.ndarray) -> Path:
-    """Write camera-to-world poses (N, 4, 4) as TUM lines ``stamp tx ty tz qx qy qz qw``."""
+    """Write camera-to-world poses as a TUM trajectory file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to write (parent folders are created).
+    stamps : numpy.ndarray
+        Shape (N,), seconds (or frame numbers).
+    poses : numpy.ndarray
+        Shape (N, 4, 4), camera-to-world, metres.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``; one line ``stamp tx ty tz qx qy qz qw`` per pose, ``w >= 0``.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     lines = []
@@ -29,15 +52,45 @@ def write_tum(path: str | os.PathLike, stamps: np.ndarray, poses: np.ndarray) ->
     return path
 
 
-def read_tum(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Stamps (N,), positions (N, 3) and quaternions (N, 4; w, x, y, z) of a TUM file. Comment
-    lines (#) are skipped; a malformed line, a non-finite value or a quaternion that is not unit
-    length raises DataError naming the file and line."""
-    path = Path(path)
+def _text(path: Path) -> str:
+    if path.is_dir():
+        raise DataError(f"{path}: is a folder, not a TUM trajectory file")
     if not path.is_file():
         raise DataError(f"{path}: trajectory file is missing")
+    try:
+        return path.read_text()
+    except UnicodeDecodeError:
+        raise DataError(f"{path}: not a text file (TUM lines expected)") from None
+
+
+def read_tum(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Read a TUM trajectory file.
+
+    Comment lines (#) are skipped. Lines repeating a stamp with the same pose are read once.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Text file of lines ``stamp tx ty tz qx qy qz qw``.
+
+    Returns
+    -------
+    stamps : numpy.ndarray
+        Shape (N,), as written.
+    positions : numpy.ndarray
+        Shape (N, 3), metres.
+    quaternions : numpy.ndarray
+        Shape (N, 4), ``(w, x, y, z)``, ``w >= 0``.
+
+    Raises
+    ------
+    DataError
+        (a ValueError) naming the file (and line) for a folder, a binary file, a malformed line,
+        a non-finite value, a quaternion that is not unit length, or one stamp given two poses.
+    """
+    path = Path(path)
     rows = []
-    for number, line in enumerate(path.read_text().splitlines(), 1):
+    for number, line in enumerate(_text(path).splitlines(), 1):
         text = line.strip()
         if not text or text.startswith("#"):
             continue
@@ -54,44 +107,125 @@ def read_tum(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarra
     if not rows:
         raise DataError(f"{path}: no poses in this file")
     table = np.array(rows)
-    return table[:, 0], table[:, 1:4], table[:, [7, 4, 5, 6]]
+    positions = table[:, 1:4]
+    quaternions = to_quaternions(from_quaternions(table[:, [7, 4, 5, 6]]))
+    stamps, first = np.unique(table[:, 0], return_index=True)
+    if len(stamps) == len(table):
+        return table[:, 0], positions, quaternions
+    pose_of_first = np.hstack([positions, quaternions])[first]
+    for stamp, pose in zip(table[:, 0], np.hstack([positions, quaternions]), strict=True):
+        if np.abs(pose - pose_of_first[np.searchsorted(stamps, stamp)]).max() > DUPLICATE_TOLERANCE:
+            raise DataError(f"{path}: stamp {stamp:g} is given two different poses")
+    keep = np.sort(first)
+    return table[keep, 0], positions[keep], quaternions[keep]
 
 
 def associate(
     stamps_a: np.ndarray, stamps_b: np.ndarray, max_difference: float = 0.01
 ) -> list[tuple[int, int]]:
-    """Pairs (i, j) of stamps closer than ``max_difference``, each used at most once, closest
-    pairs first (the greedy rule of the TUM tools and evo)."""
+    """Pair the stamps of two trajectories, closest pairs first, each stamp used at most once.
+
+    The greedy rule of the TUM benchmark's ``associate.py``: repeatedly take the closest pair
+    (ties: lower index in ``a``, then in ``b``) still unused, while it is closer than
+    ``max_difference``. On a line the closest unused pair is always adjacent in the merged
+    sorted order of the unused stamps, so only neighbours are ever compared: O((N + M) log(N + M))
+    time and O(N + M) memory (not the N x M table of differences).
+
+    Parameters
+    ----------
+    stamps_a, stamps_b : numpy.ndarray
+        Shapes (N,) and (M,), seconds, any order, distinct within each.
+    max_difference : float
+        Largest accepted difference (exclusive), seconds; must be > 0.
+
+    Returns
+    -------
+    list of (int, int)
+        Index pairs (i into ``a``, j into ``b``), sorted.
+    """
+    if not max_difference > 0:  # also refuses NaN
+        raise ValueError(f"max_difference must be a positive number of seconds, got "
+                         f"{max_difference}")  # fmt: skip
     stamps_a, stamps_b = np.asarray(stamps_a, float), np.asarray(stamps_b, float)
-    difference = np.abs(stamps_a[:, None] - stamps_b[None, :])
-    candidates = np.argwhere(difference < max_difference)
-    order = np.argsort(difference[candidates[:, 0], candidates[:, 1]], kind="stable")
-    used_a, used_b, pairs = set(), set(), []
-    for i, j in candidates[order]:
-        if i not in used_a and j not in used_b:
-            used_a.add(int(i))
-            used_b.add(int(j))
-            pairs.append((int(i), int(j)))
+    for stamps in (stamps_a, stamps_b):
+        if len(np.unique(stamps)) < len(stamps):
+            raise ValueError("the stamps of each trajectory must be distinct")
+    stamps = np.concatenate([stamps_a, stamps_b])
+    order = np.argsort(stamps, kind="stable")
+    is_b = (order >= len(stamps_a)).tolist()
+    index = np.where(order >= len(stamps_a), order - len(stamps_a), order).tolist()
+    stamps = stamps[order].tolist()
+    size = len(stamps)
+    previous, following = list(range(-1, size - 1)), list(range(1, size + 1))
+    used = [False] * size
+
+    def candidate(left: int, right: int) -> tuple[float, int, int, int, int] | None:
+        if left < 0 or right >= size or is_b[left] == is_b[right]:
+            return None
+        difference = abs(stamps[right] - stamps[left])
+        if not difference < max_difference:
+            return None
+        if is_b[left]:
+            return difference, index[right], index[left], left, right
+        return difference, index[left], index[right], left, right
+
+    heap = [c for c in map(candidate, range(size - 1), range(1, size)) if c is not None]
+    heapq.heapify(heap)
+    pairs = []
+    while heap:
+        _, i, j, left, right = heapq.heappop(heap)
+        if used[left] or used[right] or following[left] != right:
+            continue
+        used[left] = used[right] = True
+        pairs.append((i, j))
+        before, after = previous[left], following[right]
+        if before >= 0:
+            following[before] = after
+        if after < size:
+            previous[after] = before
+        new = candidate(before, after)
+        if new is not None:
+            heapq.heappush(heap, new)
     return sorted(pairs)
 
 
 def _load(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A TUM file, or a 7-Scenes sequence folder (stamps = frame numbers)."""
-    if path.is_dir():
-        sequence = list_sequence(path.parent, int(path.name.split("-")[-1]))
-        poses = sequence.poses()
-        quaternions = rotation_to_quaternion(poses[:, :3, :3])
-        return np.array(sequence.frame_ids, float), poses[:, :3, 3], quaternions
-    return read_tum(path)
+    """A TUM file, or a 7-Scenes sequence folder ``seq-XX`` (stamps = frame numbers)."""
+    if not path.is_dir():
+        return read_tum(path)
+    number = path.name.split("-")[-1]
+    if not (path.name.startswith("seq-") and number.isdigit()):
+        raise DataError(f"{path}: a folder, but not a 7-Scenes sequence folder seq-XX")
+    sequence = list_sequence(path.parent, int(number))
+    poses = sequence.poses()
+    stamps = np.array(sequence.frame_ids, float)
+    return stamps, poses[:, :3, 3], rotation_to_quaternion(poses[:, :3, :3])
 
 
 def compare_trajectories(
     ground_truth: str | os.PathLike, estimate: str | os.PathLike, max_difference: float = 0.01
 ) -> dict:
-    """Position (eq. 12, metres) and orientation (degrees) errors between two trajectories,
-    associated by timestamp: ``{"frames", "position_m": {median, mean, rmse},
-    "orientation_deg": {median, mean, rmse}}``. No registration or scale alignment is done
-    (absolute poses, as camera relocalisation is evaluated)."""
+    """Position and orientation errors between two trajectories associated by timestamp.
+
+    No registration or scale alignment is done (absolute poses, as camera relocalisation is
+    evaluated).
+
+    Parameters
+    ----------
+    ground_truth, estimate : str or os.PathLike
+        TUM files, or 7-Scenes sequence folders (stamps = frame numbers).
+    max_difference : float
+        Largest stamp difference of an associated pair (:func:`associate`), seconds.
+
+    Returns
+    -------
+    dict
+        ``{"frames", "position_m": {median, mean, rmse}, "orientation_deg": {...}}``.
+
+    References
+    ----------
+    Eq. 12-13 of the paper.
+    """
     stamps_a, positions_a, quaternions_a = _load(Path(ground_truth))
     stamps_b, positions_b, quaternions_b = _load(Path(estimate))
     pairs = associate(stamps_a, stamps_b, max_difference)
@@ -99,14 +233,26 @@ def compare_trajectories(
         raise DataError(f"{estimate}: no timestamp matches {ground_truth} within "
                         f"{max_difference} s")  # fmt: skip
     a, b = np.array(pairs).T
-    position = position_errors(positions_a[a], positions_b[b])
-    orientation = quaternion_errors_deg(quaternions_a[a], quaternions_b[b])
-    return {"frames": len(pairs), "position_m": error_statistics(position),
-            "orientation_deg": error_statistics(orientation)}
+    pair = PosePair(positions_a[a], quaternions_a[a], positions_b[b], quaternions_b[b])
+    return {"frames": len(pairs), "position_m": error_statistics(position_errors(pair)),
+            "orientation_deg": error_statistics(orientation_errors_deg(pair))}  # fmt: skip
 
 
 def quaternions_to_poses(positions: np.ndarray, quaternions: np.ndarray) -> np.ndarray:
-    """Camera-to-world 4x4 matrices from positions (N, 3) and quaternions (N, 4; w first)."""
+    """Camera-to-world matrices from positions and quaternions.
+
+    Parameters
+    ----------
+    positions : numpy.ndarray
+        Shape (N, 3), metres.
+    quaternions : numpy.ndarray
+        Shape (N, 4), ``(w, x, y, z)``; normalised first.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (N, 4, 4).
+    """
     poses = np.tile(np.eye(4), (len(positions), 1, 1))
     poses[:, :3, :3] = quaternion_to_rotation(quaternions)
     poses[:, :3, 3] = positions
