@@ -6,7 +6,7 @@ and its PSNR gain on camera blur made from real photographs.
 Runs the shipped checkpoint (or the one given) over a synthetic 160x120 video in chunks of 32
 frames, as ``blurloc deblur-video`` does, and prints frames per second for the full network and
 for the single-frame baseline of the same size. Then deblurs GoPro-style videos made from five
-scikit-image photographs at three pan speeds (:func:`blurloc.evaluation.photo_video`) and
+scikit-image photographs at three pan speeds (:func:`blurloc.experiments.photo_video.photo_video`) and
 prints the PSNR of the input and of the output against the sharp middle sub-frames.
 """
 
@@ -19,7 +19,7 @@ import numpy as np
 import skimage.data
 import torch
 
-from blurloc.evaluation import photo_video
+from blurloc.experiments.photo_video import photo_video
 from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
 from blurloc.train import load_video_deblur
 from blurloc.video import DEFAULT_CHECKPOINT, mean_frame_psnr, restore_sequence

@@ -14,7 +14,7 @@ from blurloc.blur import (
     to_gray,
     trajectory_kernel,
 )
-from blurloc.evaluation import angle_error_deg
+from blurloc.experiments.estimation import angle_error_deg
 
 
 @pytest.mark.parametrize(

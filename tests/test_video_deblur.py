@@ -13,7 +13,8 @@ from torch import nn
 
 from blurloc.cli import main
 from blurloc.data import check_data, load_split, read_image
-from blurloc.evaluation import photo_video, registered_psnr
+from blurloc.experiments.photo_video import photo_video
+from blurloc.experiments.registration import registered_psnr
 from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
 from blurloc.train import (
     VideoTrainConfig,

@@ -40,3 +40,60 @@ def like_input(result: np.ndarray, original: np.ndarray) -> np.ndarray:
     if original.dtype == np.uint8:
         return np.round(np.clip(result, 0.0, 1.0) * 255.0).astype(np.uint8)
     return result.astype(original.dtype)
+
+
+#: Display gamma of the stand-in renderer and of the photo-made videos (as the GoPro benchmark).
+GAMMA = 2.2
+
+
+def srgb_to_linear(image: np.ndarray) -> np.ndarray:
+    """Gamma-encoded intensities to linear light.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        Any shape, float, nominally [0, 1] (clipped to it).
+
+    Returns
+    -------
+    numpy.ndarray
+        Same shape, ``image ** GAMMA`` (gamma 2.2, as the GoPro benchmark).
+    """
+    return np.power(np.clip(image, 0.0, 1.0), GAMMA)
+
+
+def linear_to_srgb(image: np.ndarray) -> np.ndarray:
+    """Linear light to gamma-encoded intensities, clipped to [0, 1] (the sensor saturates).
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        Any shape, float, linear light.
+
+    Returns
+    -------
+    numpy.ndarray
+        Same shape, ``clip(image, 0, 1) ** (1 / GAMMA)``.
+    """
+    return np.power(np.clip(image, 0.0, 1.0), 1.0 / GAMMA)
+
+
+def to_uint8(linear: np.ndarray, noise: np.ndarray | None = None) -> np.ndarray:
+    """Gamma-encode linear light, add noise on the encoded intensities and quantise to uint8.
+
+    Parameters
+    ----------
+    linear : numpy.ndarray
+        Image (H, W) or (H, W, 3), float, linear light in [0, 1].
+    noise : numpy.ndarray, optional
+        Same shape as ``linear``, added after gamma encoding ([0, 1] intensity units).
+
+    Returns
+    -------
+    numpy.ndarray
+        Same shape, uint8 (0-255), rounded.
+    """
+    encoded = linear_to_srgb(linear)
+    if noise is not None:
+        encoded = encoded + noise
+    return np.round(np.clip(encoded, 0.0, 1.0) * 255.0).astype(np.uint8)

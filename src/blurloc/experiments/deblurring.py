@@ -1,0 +1,118 @@
+"""Single-image deblurring methods compared on a stand-in split (notebook 02): the methods, their
+per-frame PSNR/SSIM, the balance of scikit-image's Wiener filter and per-scene means."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterable
+
+import numpy as np
+from skimage.restoration import richardson_lucy, unsupervised_wiener, wiener
+from tqdm.auto import tqdm
+
+from ..data.sevenscenes import list_scenes, load_split, read_image
+from ..deconv import blind_kernel, wiener_deconvolve
+from ..images import as_float_image
+from ..metrics import psnr, ssim
+
+def _per_channel(restore: Callable[[np.ndarray], np.ndarray], image: np.ndarray) -> np.ndarray:
+    return np.dstack([restore(image[..., c]) for c in range(image.shape[2])])
+
+
+def deblurring_methods(
+    skimage_balance: float, rl_iterations: int = 10, seed: int = 0
+) -> dict[str, Callable[[np.ndarray, np.ndarray | None], np.ndarray]]:
+    """Single-image methods compared in notebook 02, as functions (image, kernel) -> image on
+    float [0, 1] RGB. ``kernel`` is the blind estimate (None when the detector found no blur,
+    and then every method returns its input). ``blind_wiener`` is this package's eq. 4 with the
+    NSR estimated from the noise; scikit-image's are fed the same kernel."""
+    rng = np.random.default_rng(seed)
+
+    def skip_if_sharp(method):
+        def run(image: np.ndarray, kernel: np.ndarray | None) -> np.ndarray:
+            return image if kernel is None else np.clip(method(image, kernel), 0.0, 1.0)
+
+        return run
+
+    return {
+        "blurred": lambda image, kernel: image,
+        "blind_wiener": skip_if_sharp(lambda im, k: wiener_deconvolve(im, k)),
+        "skimage_wiener": skip_if_sharp(
+            lambda im, k: _per_channel(lambda c: wiener(c, k, skimage_balance), im)
+        ),
+        "unsupervised_wiener": skip_if_sharp(
+            lambda im, k: _per_channel(lambda c: unsupervised_wiener(c, k, rng=rng)[0], im)
+        ),
+        "richardson_lucy": skip_if_sharp(
+            lambda im, k: _per_channel(lambda c: richardson_lucy(c, k, rl_iterations), im)
+        ),
+    }
+
+
+def evaluate_deblurring(
+    root: str | os.PathLike,
+    split: str,
+    methods: dict[str, Callable],
+    every: int = 1,
+    progress: bool = False,
+) -> list[dict]:
+    """PSNR and SSIM (data range 1) of each method's output against the stand-in's sharp
+    mid-exposure render, for every ``every``-th frame of ``split``. One row per frame and
+    method: scene, sequence, frame, method, psnr_db, ssim, blurred (detector verdict)."""
+    frames = [(scene, sequence, frame) for scene in list_scenes(root)
+              for sequence in load_split(root, scene, split)
+              for frame in sequence.frame_ids[::every]]  # fmt: skip
+    rows = []
+    for scene, sequence, frame in tqdm(frames, disable=not progress, desc=f"deblur {split}"):
+        blurred = as_float_image(read_image(sequence.path(frame, "color")))
+        sharp = as_float_image(read_image(sequence.path(frame, "sharp")))
+        kernel = blind_kernel(blurred)
+        for name, method in methods.items():
+            restored = method(blurred, kernel)
+            rows.append({
+                "scene": scene, "sequence": sequence.number, "frame": frame, "method": name,
+                "psnr_db": psnr(sharp, restored, 1.0), "ssim": ssim(sharp, restored, 1.0),
+                "blurred": kernel is not None,
+            })  # fmt: skip
+    return rows
+
+
+def choose_skimage_balance(
+    root: str | os.PathLike, candidates: Iterable[float], every: int = 1
+) -> tuple[float, int]:
+    """The ``balance`` of scikit-image's ``wiener`` with the best mean PSNR over every
+    ``every``-th **training** frame that blind deblurring would touch (fed the same estimated
+    kernel); returns it and the number of frames used."""
+    candidates = list(candidates)
+    scores: dict[float, list[float]] = {b: [] for b in candidates}
+    for scene in list_scenes(root):
+        for sequence in load_split(root, scene, "train"):
+            for frame in sequence.frame_ids[::every]:
+                observed = as_float_image(read_image(sequence.path(frame, "color")))
+                kernel = blind_kernel(observed)
+                if kernel is None:
+                    continue
+                truth = as_float_image(read_image(sequence.path(frame, "sharp")))
+                for balance in candidates:
+                    restored = _per_channel(
+                        lambda c, b=balance, k=kernel: wiener(c, k, b), observed
+                    )
+                    scores[balance].append(psnr(truth, np.clip(restored, 0, 1), 1.0))
+    used = len(scores[candidates[0]])
+    if not used:
+        raise ValueError(f"{root}: no blurred training frames to choose the balance on")
+    return max(candidates, key=lambda b: float(np.mean(scores[b]))), used
+
+
+def per_scene_means(rows: list[dict], metric: str) -> dict[str, dict[str, float]]:
+    """{method: {scene: mean of ``metric``}} over per-frame rows (scenes in first-seen order),
+    plus a ``mean`` entry per method: the mean of its per-scene means."""
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    table = {}
+    for method in methods:
+        values = {scene: float(np.mean([r[metric] for r in rows
+                                        if r["method"] == method and r["scene"] == scene]))
+                  for scene in scenes}  # fmt: skip
+        table[method] = {**values, "mean": float(np.mean(list(values.values())))}
+    return table

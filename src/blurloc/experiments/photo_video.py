@@ -1,0 +1,48 @@
+"""Blurred videos made the GoPro way from still photographs (the video benchmark)."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from ..images import as_float_image, srgb_to_linear, to_uint8
+
+def photo_video(
+    photo: np.ndarray,
+    frames: int = 12,
+    subframes: int = 9,
+    step_px: float = 1.0,
+    angle_deg: float = 0.0,
+    size: tuple[int, int] = (160, 120),
+    noise_sigma: float = 0.01,
+    seed: int = 0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """A blurred video made the GoPro way from a still photograph: a virtual high-frame-rate
+    camera pans over ``photo`` (``step_px`` per sub-frame at output scale, along ``angle_deg``,
+    with a small wobble); each stored frame is the mean of ``subframes`` consecutive sub-frames
+    in linear light (gamma 2.2) plus noise, its sharp frame the middle sub-frame. Returns uint8
+    (blurred, sharp), each (frames, height, width, 3)."""
+    photo = as_float_image(photo)
+    if photo.ndim != 3 or frames < 1 or subframes < 1:
+        raise ValueError("photo must be RGB; frames and subframes must be positive")
+    width, height = size
+    scale = 2  # sub-frames are rendered at twice the output size, then area-averaged down
+    linear = srgb_to_linear(cv2.resize(np.float32(photo), (3 * width * scale, 3 * height * scale),
+                                       interpolation=cv2.INTER_AREA))  # fmt: skip
+    direction = np.array([np.cos(np.radians(angle_deg)), np.sin(np.radians(angle_deg))])
+    rng = np.random.default_rng(seed)
+    blurred, sharp = [], []
+    for frame in range(frames):
+        views = []
+        for sub in range(subframes):
+            time = frame * subframes + sub
+            wobble = 1.5 * np.array([np.sin(time / 7), np.cos(time / 5)])
+            origin = (np.array([width, height]) + step_px * time * direction + wobble) * scale
+            matrix = np.float32([[1, 0, -origin[0]], [0, 1, -origin[1]]])
+            view = cv2.warpAffine(linear, matrix, (width * scale, height * scale),
+                                  borderMode=cv2.BORDER_REFLECT)  # bilinear
+            views.append(cv2.resize(view, size, interpolation=cv2.INTER_AREA))
+        noise = rng.normal(0, noise_sigma, views[0].shape)
+        blurred.append(to_uint8(np.mean(views, axis=0), noise))
+        sharp.append(to_uint8(views[subframes // 2]))
+    return np.stack(blurred), np.stack(sharp)

@@ -1,0 +1,173 @@
+"""The pose experiments of notebooks 04-05: the matrix of trainings (per scene, train on one kind
+of input frames, blurred, blind-Wiener, network-deblurred or sharp, with one head, test on the
+same kind), the mean-pose baseline, and a saved model's per-frame predictions."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+from tqdm.auto import tqdm
+
+from ..data.sevenscenes import load_split
+from ..metrics import combined_errors, orientation_errors_deg, pose_summary, position_errors
+from ..poses import PosePair, to_quaternions
+from ..train import PoseTrainConfig, load_pose_model, predict_poses, train_pose
+
+CONDITIONS = ("blurred", "wiener", "rnn", "sharp")
+
+
+def condition_roots(
+    data_root: str | os.PathLike, results_dir: str | os.PathLike
+) -> dict[str, Path]:
+    """Where each condition's frames live.
+
+    Parameters
+    ----------
+    data_root : str or os.PathLike
+        The 7-Scenes-layout root (blurred frames; sharp renders for ``sharp``).
+    results_dir : str or os.PathLike
+        Folder under which notebook 03 writes ``deblurred/wiener`` and ``deblurred/rnn``.
+
+    Returns
+    -------
+    dict
+        ``{condition: root}`` for every name of CONDITIONS.
+    """
+    results_dir = Path(results_dir)
+    return {"blurred": Path(data_root), "wiener": results_dir / "deblurred" / "wiener",
+            "rnn": results_dir / "deblurred" / "rnn", "sharp": Path(data_root)}  # fmt: skip
+
+
+def run_pose_matrix(
+    roots: dict[str, Path],
+    scenes: list[str],
+    runs: list[tuple[str, str]],
+    config: PoseTrainConfig,
+    out_dir: str | os.PathLike,
+    progress: bool = False,
+) -> tuple[list[dict], list[dict]]:
+    """Train and test every (condition, head) of ``runs`` on every scene.
+
+    Parameters
+    ----------
+    roots : dict
+        ``{condition: root}`` (:func:`condition_roots`).
+    scenes : list of str
+        Scene names.
+    runs : list of (str, str)
+        (condition, head) pairs; ``sharp`` trains and tests on the sharp renders.
+    config : PoseTrainConfig
+        Training settings shared by every run (the head is replaced per run).
+    out_dir : str or os.PathLike
+        Models go to ``out_dir/<condition>/<head>/<scene>``.
+    progress : bool
+        Show a progress bar over the runs.
+
+    Returns
+    -------
+    summaries : list of dict
+        One row per run and scene: scene, condition, head, train_seconds and
+        :func:`~blurloc.metrics.pose_summary` flattened (``position_m_median``, ...).
+    frames : list of dict
+        One row per test frame: scene, condition, head, index, position_m (eq. 12),
+        orientation_deg (eq. 13) and combined (eq. 14).
+
+    References
+    ----------
+    Eq. 12-17 of the paper; Tables I-II (blurred and deblurred inputs).
+    """
+    summaries, frames = [], []
+    jobs = [(condition, head, scene) for condition, head in runs for scene in scenes]
+    for condition, head, scene in tqdm(jobs, disable=not progress, desc="pose runs"):
+        run_config = replace(config, image="sharp" if condition == "sharp" else "color",
+                             model=replace(config.model, head=head))  # fmt: skip
+        folder = Path(out_dir) / condition / head / scene
+        history = train_pose(roots[condition], scene, folder, run_config, progress=False)
+        model, _ = load_pose_model(folder / "best.pt")
+        test = load_split(roots[condition], scene, "test")
+        positions, quaternions, true_positions, true_quaternions = predict_poses(
+            model, test, run_config)
+        pair = PosePair(true_positions, true_quaternions, positions, quaternions)
+        summary = pose_summary(pair, config.beta)
+        row = {"scene": scene, "condition": condition, "head": head,
+               "train_seconds": round(history["seconds"][-1], 1)}  # fmt: skip
+        for key, value in summary.items():
+            if isinstance(value, dict):
+                row.update({f"{key}_{stat}": v for stat, v in value.items()})
+            else:
+                row[key] = value
+        summaries.append(row)
+        position, orientation = position_errors(pair), orientation_errors_deg(pair)
+        combined = combined_errors(pair, config.beta)
+        for index in range(len(position)):
+            frames.append({"scene": scene, "condition": condition, "head": head,
+                           "index": index, "position_m": float(position[index]),
+                           "orientation_deg": float(orientation[index]),
+                           "combined": float(combined[index])})  # fmt: skip
+    return summaries, frames
+
+
+def mean_pose_baseline(root: str | os.PathLike, scene: str) -> dict:
+    """Errors of predicting one pose, the mean of the training poses, for every test frame.
+
+    The mean position and the mean rotation (:meth:`scipy.spatial.transform.Rotation.mean`,
+    the quaternion average) of the training split: what a regressor must beat to have
+    learned anything.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        The 7-Scenes-layout root.
+    scene : str
+        Scene name.
+
+    Returns
+    -------
+    dict
+        :func:`~blurloc.metrics.pose_summary` of the test frames against that constant pose.
+    """
+    train = np.concatenate([s.poses() for s in load_split(root, scene, "train")])
+    test = np.concatenate([s.poses() for s in load_split(root, scene, "test")])
+    reference = Rotation.from_matrix(test[:, :3, :3])
+    mean_q = to_quaternions(Rotation.from_matrix(train[:, :3, :3]).mean())
+    pair = PosePair(test[:, :3, 3], to_quaternions(reference),
+                    np.tile(train[:, :3, 3].mean(axis=0), (len(test), 1)),
+                    np.tile(mean_q, (len(test), 1)))  # fmt: skip
+    return pose_summary(pair)
+
+
+def predict_test_frames(
+    model_path: str | os.PathLike, root: str | os.PathLike, scene: str
+) -> dict:
+    """A saved pose model's predictions for every test frame of ``scene``.
+
+    Parameters
+    ----------
+    model_path : str or os.PathLike
+        A pose checkpoint (``best.pt``).
+    root : str or os.PathLike
+        The 7-Scenes-layout root the model is tested on.
+    scene : str
+        Scene name.
+
+    Returns
+    -------
+    dict
+        ``frames``: [(sequence, frame id)] in sequence, then frame order; ``position`` (N, 3)
+        and ``quaternion`` (N, 4, w first) predicted, ``true_position``/``true_quaternion``,
+        and per frame ``position_error`` (metres, eq. 12) and ``orientation_error`` (degrees,
+        eq. 13).
+    """
+    model, config = load_pose_model(model_path)
+    sequences = load_split(root, scene, "test")
+    position, quaternion, true_position, true_quaternion = predict_poses(model, sequences, config)
+    pair = PosePair(true_position, true_quaternion, position, quaternion)
+    return {"frames": [(s, frame) for s in sequences for frame in s.frame_ids],
+            "position": position, "quaternion": quaternion,
+            "true_position": true_position, "true_quaternion": true_quaternion,
+            "position_error": position_errors(pair),
+            "orientation_error": orientation_errors_deg(pair)}  # fmt: skip
