@@ -6,8 +6,9 @@ and its PSNR gain on camera blur made from real photographs.
 Runs the shipped checkpoint (or the one given) over a synthetic 160x120 video in chunks of 32
 frames, as ``blurloc deblur-video`` does, and prints frames per second for the full network and
 for the single-frame baseline of the same size. Then deblurs GoPro-style videos made from five
-scikit-image photographs at three pan speeds (:func:`blurloc.experiments.photo_video.photo_video`) and
-prints the PSNR of the input and of the output against the sharp middle sub-frames.
+scikit-image photographs at three pan speeds
+(:func:`blurloc.experiments.photo_video.photo_video`) and prints the PSNR of the input and of
+the output against the sharp middle sub-frames.
 """
 
 from __future__ import annotations

@@ -15,6 +15,7 @@ from ..deconv import blind_kernel, wiener_deconvolve
 from ..images import as_float_image
 from ..metrics import psnr, ssim
 
+
 def _per_channel(restore: Callable[[np.ndarray], np.ndarray], image: np.ndarray) -> np.ndarray:
     return np.dstack([restore(image[..., c]) for c in range(image.shape[2])])
 

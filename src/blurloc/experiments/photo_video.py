@@ -7,6 +7,7 @@ import numpy as np
 
 from ..images import as_float_image, srgb_to_linear, to_uint8
 
+
 def photo_video(
     photo: np.ndarray,
     frames: int = 12,

@@ -11,6 +11,7 @@ from skimage.registration import phase_cross_correlation
 from ..images import as_float_image
 from ..metrics import psnr
 
+
 def _shifted(image: np.ndarray, dx: float, dy: float) -> np.ndarray:
     matrix = np.float32([[1, 0, dx], [0, 1, dy]])
     return cv2.warpAffine(np.float32(image), matrix, image.shape[1::-1], flags=cv2.INTER_CUBIC,
