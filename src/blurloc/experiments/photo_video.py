@@ -40,8 +40,9 @@ def photo_video(
             wobble = 1.5 * np.array([np.sin(time / 7), np.cos(time / 5)])
             origin = (np.array([width, height]) + step_px * time * direction + wobble) * scale
             matrix = np.float32([[1, 0, -origin[0]], [0, 1, -origin[1]]])
-            view = cv2.warpAffine(linear, matrix, (width * scale, height * scale),
-                                  borderMode=cv2.BORDER_REFLECT)  # bilinear
+            view = cv2.warpAffine(
+                linear, matrix, (width * scale, height * scale), borderMode=cv2.BORDER_REFLECT
+            )  # bilinear
             views.append(cv2.resize(view, size, interpolation=cv2.INTER_AREA))
         noise = rng.normal(0, noise_sigma, views[0].shape)
         blurred.append(to_uint8(np.mean(views, axis=0), noise))

@@ -90,7 +90,8 @@ def run_pose_matrix(
         model, _ = load_pose_model(folder / "best.pt")
         test = load_split(roots[condition], scene, "test")
         positions, quaternions, true_positions, true_quaternions = predict_poses(
-            model, test, run_config)
+            model, test, run_config
+        )
         pair = PosePair(true_positions, true_quaternions, positions, quaternions)
         summary = pose_summary(pair, config.beta)
         row = {"scene": scene, "condition": condition, "head": head,
@@ -140,9 +141,7 @@ def mean_pose_baseline(root: str | os.PathLike, scene: str) -> dict:
     return pose_summary(pair)
 
 
-def predict_test_frames(
-    model_path: str | os.PathLike, root: str | os.PathLike, scene: str
-) -> dict:
+def predict_test_frames(model_path: str | os.PathLike, root: str | os.PathLike, scene: str) -> dict:
     """A saved pose model's predictions for every test frame of ``scene``.
 
     Parameters

@@ -1,0 +1,40 @@
+"""Figures, one function per figure, by topic; every one is drawn in the style of
+:mod:`blurloc.plots.style` (applied per figure, never globally) and saved as PNG + PDF."""
+
+from .blur import plot_detection, plot_estimation_accuracy, plot_kernels, plot_spectra
+from .deconv import plot_deblurring_process
+from .pose import plot_error_distributions, plot_pipeline, plot_predicted_views
+from .results import plot_architecture, plot_per_scene_metric, plot_ratios
+from .standin import (
+    plot_blur_histogram,
+    plot_blur_pairs,
+    plot_exposure,
+    plot_scene_gallery,
+    plot_trajectories,
+)
+from .style import save_figure, style
+from .video import plot_attention, plot_training_curves, plot_video_network
+
+__all__ = [
+    "plot_architecture",
+    "plot_attention",
+    "plot_blur_histogram",
+    "plot_blur_pairs",
+    "plot_deblurring_process",
+    "plot_detection",
+    "plot_error_distributions",
+    "plot_estimation_accuracy",
+    "plot_exposure",
+    "plot_kernels",
+    "plot_per_scene_metric",
+    "plot_pipeline",
+    "plot_predicted_views",
+    "plot_ratios",
+    "plot_scene_gallery",
+    "plot_spectra",
+    "plot_training_curves",
+    "plot_trajectories",
+    "plot_video_network",
+    "save_figure",
+    "style",
+]

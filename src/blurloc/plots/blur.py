@@ -1,0 +1,108 @@
+"""Figures of the blur model (notebook 01): kernels, spectra, blind-estimation accuracy and the
+detector's scores."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from .style import image_axis, styled
+
+
+@styled
+def plot_kernels(kernels: dict[str, np.ndarray]) -> plt.Figure:
+    """Blur kernels (PSFs) side by side, each titled by its label."""
+    figure, axes = plt.subplots(1, len(kernels), figsize=(2.0 * len(kernels), 2.2))
+    for axis, (label, kernel) in zip(np.atleast_1d(axes), kernels.items(), strict=True):
+        axis.imshow(kernel, cmap="magma", interpolation="nearest")
+        axis.set_title(label)
+        axis.axis("off")
+    return figure
+
+
+@styled
+def plot_spectra(
+    sharp: np.ndarray,
+    blurred: np.ndarray,
+    spectrum_sharp: np.ndarray,
+    spectrum_blurred: np.ndarray,
+    length_px: float,
+    angle_deg: float,
+) -> plt.Figure:
+    """Sharp vs blurred image and their log power spectra; the blurred spectrum's dark stripes
+    (sinc zeros) run perpendicular to the motion, N / L bins apart (dashed: predicted zeros)."""
+    figure, axes = plt.subplots(1, 4, figsize=(11, 2.9))
+    image_axis(axes[0], sharp, "sharp")
+    image_axis(axes[1], blurred, f"blurred: L = {length_px:g} px, θ = {angle_deg:g}°")
+    size = spectrum_blurred.shape[0]
+    panels = ((axes[2], spectrum_sharp, "log power spectrum, sharp"),
+              (axes[3], spectrum_blurred, "log power spectrum, blurred"))  # fmt: skip
+    for axis, spectrum, title in panels:
+        axis.imshow(spectrum, cmap="viridis", extent=(-size / 2, size / 2, -size / 2, size / 2))
+        axis.set_title(title)
+        axis.axis("off")
+    theta = np.radians(angle_deg)
+    direction, normal = (
+        np.array([np.cos(theta), np.sin(theta)]),
+        np.array([-np.sin(theta), np.cos(theta)]),
+    )
+    for k in range(1, int(length_px / 2) + 1):  # zeros at r = k N / L along the motion
+        for sign in (-1, 1):
+            centre = sign * k * size / length_px * direction
+            ends = np.array([centre - normal * size, centre + normal * size])
+            axes[3].plot(ends[:, 0], ends[:, 1], "w--", lw=0.6)
+    axes[3].set_xlim(-size / 2, size / 2)
+    axes[3].set_ylim(-size / 2, size / 2)
+    return figure
+
+
+@styled
+def plot_estimation_accuracy(rows: list[dict], noise_for_length: float) -> plt.Figure:
+    """Median (line) and interquartile range (band) of the blind angle and length errors,
+    against the true length (at noise ``noise_for_length``) and against the noise sigma."""
+    figure, axes = plt.subplots(1, 2, figsize=(10, 3.2))
+    sweeps = (("length_px", "true blur length L (px)"),
+              ("noise_sigma", "noise σ (images in [0, 1])"))  # fmt: skip
+    errors = (("angle_error_deg", "#1f77b4", "angle error (°)"),
+              ("length_error_px", "#d62728", "length error (px)"))  # fmt: skip
+    for column, (key, label) in enumerate(sweeps):
+        axis = axes[column]
+        subset = [r for r in rows if key == "noise_sigma" or r["noise_sigma"] == noise_for_length]
+        values = sorted({r[key] for r in subset})
+        for error, colour, name in errors:
+            stats = np.array([np.percentile([r[error] for r in subset if r[key] == v],
+                                            [25, 50, 75]) for v in values])  # fmt: skip
+            axis.plot(values, stats[:, 1], "o-", color=colour, label=f"median {name}")
+            axis.fill_between(values, stats[:, 0], stats[:, 2], color=colour, alpha=0.15)
+        axis.axhline(1.5, color="#1f77b4", ls=":", lw=1, label="target: 1.5°")
+        axis.axhline(1.0, color="#d62728", ls=":", lw=1, label="target: 1 px")
+        axis.set_xlabel(label)
+        axis.set_yscale("symlog", linthresh=1.0)
+        axis.set_ylim(0, None)
+        axis.set_ylabel("error (symmetric log scale)")
+        if column == 0:
+            axis.set_title(f"against L (σ = {noise_for_length:g}); band: 25-75th percentile")
+            axis.legend(fontsize=7)
+        else:
+            axis.set_title("against noise (all L)")
+    return figure
+
+
+@styled
+def plot_detection(
+    scores: dict[str, tuple[np.ndarray, np.ndarray]], threshold: float
+) -> plt.Figure:
+    """Histograms of the detector's score for sharp and blurred frames, one panel per named
+    (scores, labels) set, with the threshold."""
+    figure, axes = plt.subplots(1, len(scores), figsize=(5 * len(scores), 3), sharex=True)
+    for axis, (name, (values, labels)) in zip(np.atleast_1d(axes), scores.items(), strict=True):
+        bins = np.linspace(min(values.min(), threshold) - 0.5, values.max() + 0.5, 40)
+        axis.hist(values[~labels], bins, alpha=0.6, color="#1f77b4", label="sharp render")
+        axis.hist(values[labels], bins, alpha=0.6, color="#d62728", label="blurred (≥ 3 px)")
+        axis.axvline(threshold, color="k", lw=1.2, label=f"threshold {threshold:.2f}")
+        hit = (values[labels] > threshold).mean()
+        correct_sharp = (values[~labels] <= threshold).mean()
+        axis.set_title(f"{name}: {hit:.0%} of blurred, {correct_sharp:.0%} of sharp right")
+        axis.set_xlabel("blur score ln(P_mid / P_high)")
+        axis.legend(fontsize=7)
+    return figure

@@ -1,0 +1,114 @@
+"""Figures of pose regression (notebook 05): one frame through the pipeline (Fig. 2), views
+rendered at predicted poses (Fig. 5) and the per-frame error distributions (Fig. 10)."""
+
+from __future__ import annotations
+
+import itertools
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.patches import ConnectionPatch
+
+from .style import METHOD_COLOURS, PAPER_COLOUR, styled
+
+
+@styled
+def plot_pipeline(panels: list[dict], truth: np.ndarray, predicted: np.ndarray) -> plt.Figure:
+    """Fig. 2: one frame through the pipeline. ``panels``: dicts with ``image`` (RGB, grey or a
+    2-D map), ``title`` and optional ``cmap``, in processing order; the last panel shows the
+    true and predicted camera path (positions (N, 3), seen from above: x vs z)."""
+    count = len(panels) + 1
+    figure, axes = plt.subplots(1, count, figsize=(2.3 * count, 2.6))
+    for axis, panel in zip(axes, panels, strict=False):
+        image = panel["image"]
+        axis.imshow(image, cmap=panel.get("cmap", "gray"), interpolation="nearest")
+        axis.set_title(panel["title"], fontsize=8)
+        axis.axis("off")
+    axis = axes[-1]
+    axis.plot(truth[:, 0], truth[:, 2], "k-", lw=1.4, label="true")
+    axis.plot(predicted[:, 0], predicted[:, 2], "-", color="#d62728", lw=1, label="predicted")
+    axis.plot(*truth[-1, [0, 2]], "ko", ms=3)
+    axis.plot(*predicted[-1, [0, 2]], "o", color="#d62728", ms=3)
+    axis.set_aspect("equal", adjustable="datalim")
+    axis.set_xlabel("x (m)")
+    axis.set_ylabel("z (m)")
+    axis.yaxis.set_label_position("right")
+    axis.yaxis.tick_right()
+    axis.set_title("pose (c, q): path from above", fontsize=8)
+    axis.legend(fontsize=6)
+    for left, right in itertools.pairwise(axes):
+        figure.add_artist(ConnectionPatch((1.02, 0.5), (-0.02, 0.5), "axes fraction",
+                                          "axes fraction", axesA=left, axesB=right,
+                                          arrowstyle="->", color="#333333"))  # fmt: skip
+    return figure
+
+
+@styled
+def plot_predicted_views(views: dict[str, dict[str, np.ndarray]], captions: dict[str, str]
+                         ) -> plt.Figure:  # fmt: skip
+    """Fig. 5: one column per scene ({scene: {row label: image}}), rows in the dicts' order (e.g.
+    input, deblurred, ground truth, predicted); ``captions`` under each column."""
+    scenes = list(views)
+    labels = list(views[scenes[0]])
+    figure, axes = plt.subplots(len(labels), len(scenes), squeeze=False,
+                                figsize=(1.75 * len(scenes), 1.45 * len(labels) + 0.4))  # fmt: skip
+    for column, scene in enumerate(scenes):
+        for row, label in enumerate(labels):
+            axis = axes[row, column]
+            axis.imshow(views[scene][label])
+            axis.set_xticks([])
+            axis.set_yticks([])
+            axis.grid(False)
+            if row == 0:
+                axis.set_title(scene, fontsize=8)
+            if column == 0:
+                axis.set_ylabel(label, fontsize=8)
+        axes[-1, column].set_xlabel(captions.get(scene, ""), fontsize=7)
+    return figure
+
+
+@styled
+def plot_error_distributions(
+    errors: dict[str, dict[str, np.ndarray]],
+    paper: dict[str, dict[str, float]] | None = None,
+    ylabel: str = "combined error (eq. 14, per frame)",
+) -> plt.Figure:
+    """Fig. 10: per scene, the distribution of per-frame errors for each condition
+    ({scene: {condition: values}}) as violins with the median marked; optionally a second panel
+    with the paper's printed per-scene values ({label: {scene: value}}), labelled "paper"."""
+    scenes = list(errors)
+    conditions = list(errors[scenes[0]])
+    colours = [METHOD_COLOURS.get(c, f"C{i}") for i, c in enumerate(conditions)]
+    panels = 2 if paper else 1
+    figure, axes = plt.subplots(1, panels, figsize=(11, 3.6), squeeze=False,
+                                gridspec_kw={"width_ratios": [3, 1.3][:panels]})  # fmt: skip
+    axis = axes[0, 0]
+    width = 0.8 / len(conditions)
+    for index, (condition, colour) in enumerate(zip(conditions, colours, strict=True)):
+        x = np.arange(len(scenes)) + (index - (len(conditions) - 1) / 2) * width
+        data = [np.asarray(errors[scene][condition], float) for scene in scenes]
+        parts = axis.violinplot(data, x, widths=width * 0.95, showextrema=False,
+                                showmedians=True)  # fmt: skip
+        for body in parts["bodies"]:
+            body.set_facecolor(colour)
+            body.set_alpha(0.6)
+        parts["cmedians"].set_color("#222222")
+        axis.plot([], [], "s", color=colour, alpha=0.6, label=condition)
+    axis.set_xticks(np.arange(len(scenes)), scenes)
+    axis.set_ylabel(ylabel)
+    axis.set_title("measured on the stand-in (violins: per-frame distribution, bar: median)")
+    axis.legend(ncol=len(conditions), fontsize=7, loc="upper left")
+    if paper:
+        axis = axes[0, 1]
+        width = 0.8 / len(paper)
+        for index, (label, values) in enumerate(paper.items()):
+            x = np.arange(len(scenes)) + (index - (len(paper) - 1) / 2) * width
+            axis.bar(x, [values.get(s, np.nan) for s in scenes], width, label=label,
+                     color=PAPER_COLOUR, alpha=1.0 - 0.45 * index, hatch="//",
+                     edgecolor="#444444", linewidth=0.5)  # fmt: skip
+        axis.set_xticks(np.arange(len(scenes)), scenes, rotation=60, fontsize=7)
+        axis.set_title("paper (printed, 7-Scenes)")
+        axis.set_ylim(min(min(v.values()) for v in paper.values()) * 0.85,
+                      max(max(v.values()) for v in paper.values()) * 1.05)  # fmt: skip
+        axis.legend(fontsize=6, loc="upper left")
+    return figure

@@ -1,0 +1,86 @@
+"""Figures that set measured numbers beside the paper (notebooks 02, 04, 05): the architecture
+(Fig. 1), measured vs printed per-scene bars (Fig. 6-7 style) and measured/printed ratios."""
+
+from __future__ import annotations
+
+import itertools
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from .style import METHOD_COLOURS, PAPER_COLOUR, styled
+
+
+@styled
+def plot_architecture(stages: list[list[str]], title: str) -> plt.Figure:
+    """Fig. 1: the architecture as boxes, one column per stage in data-flow order; alternatives
+    of a stage (e.g. image vs video deblurring) are stacked in its column. The box texts come
+    from the caller, built from the package's own objects, so the figure follows the code."""
+    colours = ["#eeeeee", "#fdd0a2", "#c6dbef", "#c7e9c0", "#dadaeb", "#fcbba1", "#eeeeee"]
+    step, width = 2.45, 2.15
+    figure, axis = plt.subplots(figsize=(2.0 * len(stages), 3.3))
+    axis.set_xlim(-0.1, step * len(stages) - 0.2)
+    axis.set_ylim(0, 3.6)
+    axis.axis("off")
+    centres = []
+    for index, boxes in enumerate(stages):
+        x = step * index + width / 2
+        ys = np.linspace(2.6, 1.0, len(boxes)) if len(boxes) > 1 else [1.8]
+        colour = colours[index % len(colours)]
+        for y, text in zip(ys, boxes, strict=True):
+            axis.add_patch(plt.Rectangle((x - width / 2, y - 0.55), width, 1.1, facecolor=colour,
+                                         edgecolor="#333333", lw=0.8))  # fmt: skip
+            axis.text(x, y, text, ha="center", va="center", fontsize=7, wrap=True)
+        centres.append([(x, y) for y in ys])
+    for left, right in itertools.pairwise(centres):
+        for x0, y0 in left:
+            for x1, y1 in right:
+                arrow = {"arrowstyle": "->", "lw": 0.8, "color": "#333333"}
+                axis.annotate("", (x1 - width / 2, y1), (x0 + width / 2, y0), arrowprops=arrow)
+    axis.set_title(title)
+    return figure
+
+
+@styled
+def plot_per_scene_metric(
+    measured: dict[str, dict[str, float]],
+    paper: dict[str, float],
+    ylabel: str,
+    title: str,
+) -> plt.Figure:
+    """Grouped bars per scene: each measured method ({method: {scene: value}}) and the paper's
+    printed values (hatched grey, labelled "paper")."""
+    scenes = list(paper)
+    series = [(name, values, METHOD_COLOURS.get(name, None), None)
+              for name, values in measured.items()]  # fmt: skip
+    series.append(("paper (printed)", paper, PAPER_COLOUR, "//"))
+    width = 0.8 / len(series)
+    figure, axis = plt.subplots(figsize=(10, 3.4))
+    for index, (name, values, colour, hatch) in enumerate(series):
+        x = np.arange(len(scenes)) + (index - (len(series) - 1) / 2) * width
+        heights = [values.get(scene, np.nan) for scene in scenes]
+        axis.bar(x, heights, width, label=name, color=colour, hatch=hatch,
+                 edgecolor="white" if hatch is None else "#444444", linewidth=0.5)  # fmt: skip
+    axis.set_xticks(np.arange(len(scenes)), scenes)
+    axis.set_ylabel(ylabel)
+    axis.set_title(title)
+    lows = [v for _, values, _, _ in series for v in values.values() if np.isfinite(v)]
+    axis.set_ylim(min(lows) * 0.9, max(lows) * 1.03)
+    axis.legend(ncol=3, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
+    return figure
+
+
+@styled
+def plot_ratios(groups: dict[str, list[float]], title: str) -> plt.Figure:
+    """Measured / printed ratios, one column of dots per group ({label: ratios}), log scale,
+    with the line of agreement at 1."""
+    figure, axis = plt.subplots(figsize=(9, 3.2))
+    for index, ratios in enumerate(groups.values()):
+        spread = np.linspace(-0.15, 0.15, len(ratios))
+        axis.plot(np.full(len(ratios), index) + spread, ratios, "o", ms=4, alpha=0.8)
+    axis.axhline(1.0, color="#555555", ls=":")
+    axis.set_yscale("log")
+    axis.set_xticks(range(len(groups)), list(groups), rotation=35, ha="right", fontsize=7)
+    axis.set_ylabel("measured / printed")
+    axis.set_title(title)
+    return figure
