@@ -12,10 +12,11 @@ from .standin import (
     plot_scene_gallery,
     plot_trajectories,
 )
-from .style import save_figure, style
+from .style import figure_style, save_figure
 from .video import plot_attention, plot_training_curves, plot_video_network
 
 __all__ = [
+    "figure_style",
     "plot_architecture",
     "plot_attention",
     "plot_blur_histogram",
@@ -36,5 +37,4 @@ __all__ = [
     "plot_trajectories",
     "plot_video_network",
     "save_figure",
-    "style",
 ]

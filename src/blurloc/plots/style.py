@@ -43,7 +43,7 @@ _P = ParamSpec("_P")
 _R = TypeVar("_R")
 
 
-def style() -> plt.style.context:
+def figure_style() -> plt.style.context:
     """The package's style as a context manager, for figures drawn outside this package.
 
     Returns
@@ -55,7 +55,7 @@ def style() -> plt.style.context:
 
 
 def styled(function: Callable[_P, _R]) -> Callable[_P, _R]:
-    """Decorate a figure function so that it draws inside :func:`style`.
+    """Decorate a figure function so that it draws inside :func:`figure_style`.
 
     Parameters
     ----------
@@ -70,7 +70,7 @@ def styled(function: Callable[_P, _R]) -> Callable[_P, _R]:
 
     @functools.wraps(function)
     def draw(*args: _P.args, **kwargs: _P.kwargs) -> _R:
-        with style():
+        with figure_style():
             return function(*args, **kwargs)
 
     return draw
@@ -96,7 +96,7 @@ def save_figure(figure: plt.Figure, folder: str | os.PathLike, name: str) -> lis
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     paths = [folder / f"{name}.png", folder / f"{name}.pdf"]
-    with style():
+    with figure_style():
         for path in paths:
             figure.savefig(path, metadata={"CreationDate": None} if path.suffix == ".pdf" else None)
     return paths

@@ -1,0 +1,144 @@
+"""Figures: what each draws (axes, lines, reference values), the style applied per figure only,
+and the tables beside them."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from blurloc import plots
+from blurloc.data import load_split
+from blurloc.data.samples import blur_range_frames, camera_paths, first_test_frames
+from blurloc.plots.style import STYLE
+from blurloc.tables import save_table
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+def test_importing_plots_leaves_matplotlib_settings_alone() -> None:
+    code = ("import matplotlib, copy; before = copy.deepcopy(dict(matplotlib.rcParams)); "
+            "import blurloc.plots; assert dict(matplotlib.rcParams) == before")  # fmt: skip
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_the_style_holds_inside_a_figure_only() -> None:
+    records = [{"mean_px": float(v)} for v in np.linspace(0.5, 12.0, 40)]
+    figure = plots.plot_blur_histogram(records, thresholds=(3.0, 8.0))
+    axis = figure.axes[0]
+    assert not axis.spines["top"].get_visible() and axis.xaxis.get_gridlines()[0].get_visible()
+    assert plt.rcParams["axes.spines.top"]  # the global default is back
+    assert figure.dpi == STYLE["figure.dpi"]
+    extent = np.array([r["mean_px"] for r in records])
+    verticals = sorted(line.get_xdata()[0] for line in axis.lines)
+    expected = sorted([np.median(extent), np.percentile(extent, 90), 3.0, 8.0])
+    np.testing.assert_allclose(verticals, expected)
+    assert sum(patch.get_height() for patch in axis.patches) == len(records)
+
+
+def test_save_figure_writes_png_and_a_reproducible_pdf(tmp_path: Path) -> None:
+    figure = plots.plot_kernels({"a": np.eye(5), "b": np.ones((5, 5)) / 25, "c": np.eye(5)})
+    assert len(figure.axes) == 3 and [a.get_title() for a in figure.axes] == ["a", "b", "c"]
+    png, pdf = plots.save_figure(figure, tmp_path / "one", "kernels")
+    plots.save_figure(figure, tmp_path / "two", "kernels")
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    assert pdf.read_bytes() == (tmp_path / "two" / "kernels.pdf").read_bytes()
+
+
+def test_reference_lines_are_at_the_given_values() -> None:
+    history = {"step": [1, 2, 3], "train_loss": [0.3, 0.2, 0.1], "val_psnr": [25, 26, 27]}
+    figure = plots.plot_training_curves({"net": history, "other": history}, reference_db=24.5)
+    loss_axis, psnr_axis = figure.axes
+    assert len(loss_axis.lines) == 2
+    assert list(psnr_axis.lines[-1].get_ydata()) == [24.5, 24.5]
+    figure = plots.plot_ratios({"fig6": [0.9, 1.1], "table1": [2.0, 0.5, 1.0]}, "ratios")
+    axis = figure.axes[0]
+    assert axis.get_yscale() == "log"
+    assert list(axis.lines[-1].get_ydata()) == [1.0, 1.0]
+    assert [len(line.get_xdata()) for line in axis.lines[:-1]] == [2, 3]
+    rng = np.random.default_rng(0)
+    scores = {"train": (rng.normal(size=50), rng.random(50) > 0.5)}
+    figure = plots.plot_detection(scores, threshold=0.25)
+    assert figure.axes[0].lines[-1].get_xdata()[0] == 0.25
+
+
+def test_estimation_accuracy_plots_medians_per_sweep_value() -> None:
+    rows = [
+        {
+            "length_px": length,
+            "noise_sigma": sigma,
+            "angle_error_deg": float(i % 3),
+            "length_error_px": 0.5,
+        }
+        for i, (length, sigma) in enumerate(
+            (L, s) for L in (7, 15, 27) for s in (0.0, 0.005) for _ in range(3)
+        )
+    ]
+    figure = plots.plot_estimation_accuracy(rows, noise_for_length=0.005)
+    against_length, against_noise = figure.axes
+    median_angle = against_length.lines[0]
+    assert list(median_angle.get_xdata()) == [7, 15, 27]
+    assert list(against_noise.lines[1].get_ydata()) == [0.5, 0.5]  # median length error
+    assert {tuple(line.get_ydata()) for line in against_length.lines[2:]} == {
+        (1.5, 1.5),
+        (1.0, 1.0),
+    }
+
+
+def test_per_scene_bars_and_error_distributions() -> None:
+    paper = {"chess": 30.0, "fire": 29.0}
+    measured = {"blind_wiener": {"chess": 28.0, "fire": 27.5},
+                "blurred": {"chess": 26.0, "fire": 25.0}}  # fmt: skip
+    figure = plots.plot_per_scene_metric(measured, paper, "PSNR (dB)", "title")
+    axis = figure.axes[0]
+    assert len(axis.containers) == 3
+    printed = axis.containers[-1]
+    assert [bar.get_height() for bar in printed] == [30.0, 29.0]
+    assert all(bar.get_hatch() == "//" for bar in printed)
+    errors = {"chess": {"blurred": np.arange(5.0), "rnn": np.arange(5.0) / 2},
+              "fire": {"blurred": np.ones(4), "rnn": np.ones(4)}}  # fmt: skip
+    assert len(plots.plot_error_distributions(errors).axes) == 1
+    figure = plots.plot_error_distributions(errors, {"paper LSTM": paper})
+    assert len(figure.axes) == 2
+    assert [bar.get_height() for bar in figure.axes[1].containers[0]] == [30.0, 29.0]
+
+
+def test_standin_figures_draw_the_frames_they_are_given(quick_root: Path) -> None:
+    frames = first_test_frames(quick_root)
+    figure = plots.plot_scene_gallery(frames)
+    shown = [axis for axis in figure.axes if axis.images]
+    assert [axis.get_title() for axis in shown] == list(frames) == ["chess", "stairs"]
+    assert np.array_equal(shown[0].images[0].get_array(), frames["chess"])
+    paths = camera_paths(quick_root)
+    figure = plots.plot_trajectories(paths)
+    assert len(figure.axes) == 2
+    first_path = figure.axes[0].lines[0].get_data_3d()[0]
+    np.testing.assert_allclose(first_path, paths["chess"]["train"][0][:, 0])
+    records = [{"split": "test", "scene": "chess", "sequence": s.number, "frame": f,
+                "mean_px": float(f), "angle_deg": 10.0}
+               for s in load_split(quick_root, "chess", "test") for f in s.frame_ids]  # fmt: skip
+    picks, sharp, blurred = blur_range_frames(quick_root, records, count=3)
+    assert [p["mean_px"] for p in picks] == sorted(p["mean_px"] for p in picks)
+    figure = plots.plot_blur_pairs(picks, sharp, blurred)
+    assert len(figure.axes) == 6
+    assert np.array_equal(figure.axes[0].images[0].get_array(), sharp[0])
+    assert np.array_equal(figure.axes[3].images[0].get_array(), blurred[0])
+
+
+def test_save_table_writes_markdown_and_csv(tmp_path: Path) -> None:
+    rows = [{"scene": "chess", "psnr_db": 28.5, "extra": 1}, {"scene": "fire", "psnr_db": 27.0}]
+    md, csv_path = save_table(rows, tmp_path, "t", columns=["scene", "psnr_db"], caption="Cap.")
+    assert md.read_text() == ("Cap.\n\n| scene | psnr_db |\n|---|---|\n| chess | 28.5 |\n"
+                              "| fire | 27.0 |\n")  # fmt: skip
+    assert csv_path.read_text().splitlines() == ["scene,psnr_db", "chess,28.5", "fire,27.0"]
