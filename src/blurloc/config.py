@@ -22,17 +22,46 @@ DEFAULT_SEED = 0
 
 
 def default_data_root(quick: bool = False) -> Path:
-    """Where the synthetic stand-in lives: ``data/standin`` (or ``data/standin-quick``)."""
+    """Where the synthetic stand-in lives.
+
+    Parameters
+    ----------
+    quick : bool
+        The tiny stand-in of the quick runs.
+
+    Returns
+    -------
+    pathlib.Path
+        ``data/standin`` (or ``data/standin-quick``) in the repository.
+    """
     return DATA_DIR / ("standin-quick" if quick else "standin")
 
 
 def resolve_dir(path: str | os.PathLike | None, default: Path) -> Path:
-    """``path`` as a Path, or ``default`` when it is None or empty (notebook parameters)."""
+    """A folder given as a notebook parameter, or its default.
+
+    Parameters
+    ----------
+    path : str or os.PathLike or None
+        The parameter (None or empty: not given).
+    default : pathlib.Path
+        Used when ``path`` is not given.
+
+    Returns
+    -------
+    pathlib.Path
+    """
     return Path(path) if path else default
 
 
 def seed_everything(seed: int) -> None:
-    """Seed Python, NumPy and torch so that the same seed gives the same numbers on CPU."""
+    """Seed Python's, NumPy's global and torch's random generators.
+
+    Parameters
+    ----------
+    seed : int
+        The seed.
+    """
     import torch  # here, so that commands that never touch torch start fast
 
     random.seed(seed)
@@ -41,8 +70,21 @@ def seed_everything(seed: int) -> None:
 
 
 def write_rows(rows: list[dict], path: str | os.PathLike) -> Path:
-    """Write ``rows`` (dicts with the same keys) as CSV, atomically: to a temporary file in the
-    same folder, then renamed, so a reader never sees half a file."""
+    """Write rows as CSV, atomically: to a temporary file in the same folder, then renamed, so
+    a reader never sees half a file.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Dicts with the same keys (the header, in the first row's order).
+    path : str or os.PathLike
+        The CSV file (parent folders are created).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.NamedTemporaryFile("w", dir=path.parent, suffix=".tmp", delete=False,

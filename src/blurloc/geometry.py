@@ -18,7 +18,18 @@ SEVEN_SCENES_SIZE = (640, 480)
 
 
 def intrinsics(width: int, height: int) -> np.ndarray:
-    """3x3 camera matrix of the 7-Scenes camera scaled to ``width`` x ``height`` pixels."""
+    """Camera matrix of the 7-Scenes camera scaled to another image size.
+
+    Parameters
+    ----------
+    width, height : int
+        Image size, pixels.
+
+    Returns
+    -------
+    numpy.ndarray
+        (3, 3): focal lengths and principal point in pixels (centres at integers).
+    """
     if width <= 0 or height <= 0:
         raise ValueError(f"image size must be positive, got {width}x{height}")
     sx = width / SEVEN_SCENES_SIZE[0]
@@ -32,7 +43,20 @@ def intrinsics(width: int, height: int) -> np.ndarray:
 
 
 def look_at(eye: np.ndarray, target: np.ndarray, up: np.ndarray = (0.0, 0.0, 1.0)) -> np.ndarray:
-    """Camera-to-world rotation of a camera at ``eye`` looking at ``target`` (world z up)."""
+    """Camera-to-world rotation of a camera at ``eye`` looking at ``target``.
+
+    Parameters
+    ----------
+    eye, target : numpy.ndarray
+        (3,), metres, world frame.
+    up : numpy.ndarray
+        (3,), the world's up direction (z).
+
+    Returns
+    -------
+    numpy.ndarray
+        (3, 3), columns: camera x (right), y (down), z (forward) in world coordinates.
+    """
     forward = np.asarray(target, float) - np.asarray(eye, float)
     forward /= np.linalg.norm(forward)
     right = np.cross(forward, np.asarray(up, float))
@@ -44,7 +68,20 @@ def look_at(eye: np.ndarray, target: np.ndarray, up: np.ndarray = (0.0, 0.0, 1.0
 
 
 def make_pose(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
-    """4x4 camera-to-world pose(s) from rotation(s) (..., 3, 3) and position(s) (..., 3)."""
+    """Camera-to-world pose matrices.
+
+    Parameters
+    ----------
+    rotation : numpy.ndarray
+        (..., 3, 3).
+    position : numpy.ndarray
+        (..., 3), metres.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 4, 4).
+    """
     rotation = np.asarray(rotation, float)
     position = np.asarray(position, float)
     pose = np.zeros((*rotation.shape[:-2], 4, 4))
@@ -55,15 +92,38 @@ def make_pose(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
 
 
 def orthonormality_error(rotation: np.ndarray) -> float:
-    """Largest absolute entry of R^T R - I: 0 for an exact rotation."""
+    """How far a matrix is from orthonormal.
+
+    Parameters
+    ----------
+    rotation : numpy.ndarray
+        (3, 3).
+
+    Returns
+    -------
+    float
+        Largest absolute entry of ``R^T R - I``: 0 for an exact rotation (or mirror).
+    """
     rotation = np.asarray(rotation, float)
     return float(np.abs(rotation.T @ rotation - np.eye(3)).max())
 
 
 def project(points_world: np.ndarray, pose: np.ndarray, camera: np.ndarray) -> np.ndarray:
-    """Pixel coordinates (N, 2) and depths (N,) of world points seen from a camera-to-world pose.
+    """Pixel coordinates and depths of world points seen from a camera.
 
-    Returns an (N, 3) array: u, v (pixels, centres at integers) and z (metres, along the axis).
+    Parameters
+    ----------
+    points_world : numpy.ndarray
+        (N, 3), metres.
+    pose : numpy.ndarray
+        (4, 4), camera-to-world.
+    camera : numpy.ndarray
+        (3, 3) camera matrix, pixels.
+
+    Returns
+    -------
+    numpy.ndarray
+        (N, 3): u, v (pixels, centres at integers) and z (metres, along the optical axis).
     """
     points_world = np.asarray(points_world, float).reshape(-1, 3)
     rotation, position = pose[:3, :3], pose[:3, 3]
@@ -76,7 +136,24 @@ def project(points_world: np.ndarray, pose: np.ndarray, camera: np.ndarray) -> n
 def backproject(
     uv: np.ndarray, depth: np.ndarray, pose: np.ndarray, camera: np.ndarray
 ) -> np.ndarray:
-    """World points (N, 3) of pixels ``uv`` (N, 2) at z-depths ``depth`` (N,) metres."""
+    """World points of pixels at known depths.
+
+    Parameters
+    ----------
+    uv : numpy.ndarray
+        (N, 2), pixels.
+    depth : numpy.ndarray
+        (N,), z-depths, metres.
+    pose : numpy.ndarray
+        (4, 4), camera-to-world.
+    camera : numpy.ndarray
+        (3, 3) camera matrix, pixels.
+
+    Returns
+    -------
+    numpy.ndarray
+        (N, 3), metres, world frame.
+    """
     uv = np.asarray(uv, float).reshape(-1, 2)
     x = (uv[:, 0] - camera[0, 2]) / camera[0, 0]
     y = (uv[:, 1] - camera[1, 2]) / camera[1, 1]

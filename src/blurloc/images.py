@@ -10,9 +10,23 @@ IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
 
 
 def check_image(image: np.ndarray) -> np.ndarray:
-    """Return ``image`` if it is a usable gray (H, W) or RGB (H, W, 3) image, else ValueError.
+    """Check that an array is a usable image.
 
-    Accepted: uint8 (0-255) or float32/float64 (nominally [0, 1]), at least 2x2 pixels, finite.
+    Parameters
+    ----------
+    image : numpy.ndarray
+        Gray (H, W) or RGB (H, W, 3); uint8 (0-255) or float32/float64 (nominally [0, 1]);
+        at least 2x2 pixels; finite.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``image`` itself.
+
+    Raises
+    ------
+    ValueError
+        Naming what is wrong.
     """
     if not isinstance(image, np.ndarray):
         raise ValueError(f"image must be a NumPy array, got {type(image).__name__}")
@@ -28,7 +42,18 @@ def check_image(image: np.ndarray) -> np.ndarray:
 
 
 def as_float_image(image: np.ndarray) -> np.ndarray:
-    """The image as float64 in [0, 1] (uint8 is divided by 255); checked first."""
+    """The image as float64 in [0, 1]; checked first.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3), uint8 (divided by 255) or float.
+
+    Returns
+    -------
+    numpy.ndarray
+        Same shape, float64.
+    """
     image = check_image(image)
     if image.dtype == np.uint8:
         return image.astype(np.float64) / 255.0
@@ -36,7 +61,20 @@ def as_float_image(image: np.ndarray) -> np.ndarray:
 
 
 def like_input(result: np.ndarray, original: np.ndarray) -> np.ndarray:
-    """Convert a float [0, 1] result back to the dtype of ``original`` (uint8: clip and round)."""
+    """Convert a float result back to the dtype of the input it came from.
+
+    Parameters
+    ----------
+    result : numpy.ndarray
+        Float image, nominally [0, 1].
+    original : numpy.ndarray
+        The input image; its dtype is restored.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``result`` in the dtype of ``original`` (uint8: clipped to [0, 1], scaled and rounded).
+    """
     if original.dtype == np.uint8:
         return np.round(np.clip(result, 0.0, 1.0) * 255.0).astype(np.uint8)
     return result.astype(original.dtype)

@@ -23,10 +23,32 @@ def _per_channel(restore: Callable[[np.ndarray], np.ndarray], image: np.ndarray)
 def deblurring_methods(
     skimage_balance: float, rl_iterations: int = 10, seed: int = 0
 ) -> dict[str, Callable[[np.ndarray, np.ndarray | None], np.ndarray]]:
-    """Single-image methods compared in notebook 02, as functions (image, kernel) -> image on
-    float [0, 1] RGB. ``kernel`` is the blind estimate (None when the detector found no blur,
-    and then every method returns its input). ``blind_wiener`` is this package's eq. 4 with the
-    NSR estimated from the noise; scikit-image's are fed the same kernel."""
+    """The single-image methods compared in notebook 02.
+
+    ``blind_wiener`` is this package's eq. 4 with the NSR estimated from the noise;
+    scikit-image's ``wiener``, ``unsupervised_wiener`` and ``richardson_lucy`` are fed the same
+    estimated kernel; ``blurred`` returns its input.
+
+    Parameters
+    ----------
+    skimage_balance : float
+        ``balance`` of scikit-image's ``wiener`` (:func:`choose_skimage_balance`).
+    rl_iterations : int
+        Richardson-Lucy iterations.
+    seed : int
+        Seed of ``unsupervised_wiener``'s sampler.
+
+    Returns
+    -------
+    dict
+        ``{name: method}``; ``method(image, kernel)`` maps an RGB float [0, 1] image (H, W, 3)
+        and the blind kernel (None when the detector found no blur: the input is returned) to a
+        restored image of the same shape, clipped to [0, 1].
+
+    References
+    ----------
+    Eq. 4 of the paper (Wiener deconvolution).
+    """
     rng = np.random.default_rng(seed)
 
     def skip_if_sharp(method):
@@ -57,9 +79,31 @@ def evaluate_deblurring(
     every: int = 1,
     progress: bool = False,
 ) -> list[dict]:
-    """PSNR and SSIM (data range 1) of each method's output against the stand-in's sharp
-    mid-exposure render, for every ``every``-th frame of ``split``. One row per frame and
-    method: scene, sequence, frame, method, psnr_db, ssim, blurred (detector verdict)."""
+    """PSNR and SSIM of each method's output against the stand-in's sharp mid-exposure render.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        The stand-in root (stored ``color`` frames and ``sharp`` renders).
+    split : str
+        ``"train"`` or ``"test"``.
+    methods : dict
+        ``{name: method}`` (:func:`deblurring_methods`).
+    every : int
+        Use every ``every``-th frame of each sequence.
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    list of dict
+        One row per frame and method: scene, sequence, frame, method, psnr_db (dB, data range
+        1), ssim, blurred (the detector's verdict).
+
+    References
+    ----------
+    Eq. 5-7 of the paper (PSNR, SSIM).
+    """
     frames = [(scene, sequence, frame) for scene in list_scenes(root)
               for sequence in load_split(root, scene, split)
               for frame in sequence.frame_ids[::every]]  # fmt: skip
@@ -81,9 +125,27 @@ def evaluate_deblurring(
 def choose_skimage_balance(
     root: str | os.PathLike, candidates: Iterable[float], every: int = 1
 ) -> tuple[float, int]:
-    """The ``balance`` of scikit-image's ``wiener`` with the best mean PSNR over every
-    ``every``-th **training** frame that blind deblurring would touch (fed the same estimated
-    kernel); returns it and the number of frames used."""
+    """The ``balance`` of scikit-image's ``wiener`` with the best mean PSNR on training frames.
+
+    Only frames that blind deblurring would touch count, each fed the same estimated kernel;
+    the test split is never used.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        The stand-in root.
+    candidates : iterable of float
+        Balances to try.
+    every : int
+        Use every ``every``-th training frame.
+
+    Returns
+    -------
+    balance : float
+        The best candidate.
+    frames : int
+        Number of frames it was chosen on.
+    """
     candidates = list(candidates)
     scores: dict[float, list[float]] = {b: [] for b in candidates}
     for scene in list_scenes(root):
@@ -106,8 +168,21 @@ def choose_skimage_balance(
 
 
 def per_scene_means(rows: list[dict], metric: str) -> dict[str, dict[str, float]]:
-    """{method: {scene: mean of ``metric``}} over per-frame rows (scenes in first-seen order),
-    plus a ``mean`` entry per method: the mean of its per-scene means."""
+    """Per-scene means of a metric, per method.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Per-frame rows with ``method``, ``scene`` and ``metric`` keys.
+    metric : str
+        The key to average (e.g. ``psnr_db``).
+
+    Returns
+    -------
+    dict
+        ``{method: {scene: mean, ..., "mean": mean of the per-scene means}}``, scenes in
+        first-seen order.
+    """
     methods = list(dict.fromkeys(r["method"] for r in rows))
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
     table = {}

@@ -19,8 +19,22 @@ PHOTOS = ("astronaut", "camera", "coffee", "chelsea", "rocket", "brick", "grass"
 
 
 def photo_crops(count: int, size: int = 256, seed: int = 0) -> list[np.ndarray]:
-    """``count`` random ``size`` x ``size`` gray crops ([0, 1] float) of scikit-image's photos,
-    cycling through PHOTOS."""
+    """Random square gray crops of scikit-image's photographs, cycling through PHOTOS.
+
+    Parameters
+    ----------
+    count : int
+        Number of crops.
+    size : int
+        Side of each crop, pixels.
+    seed : int
+        Seed of the crop positions.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        ``count`` arrays (size, size), float64 in [0, 1].
+    """
     rng = np.random.default_rng(seed)
     crops = []
     for index in range(count):
@@ -35,7 +49,18 @@ def photo_crops(count: int, size: int = 256, seed: int = 0) -> list[np.ndarray]:
 
 
 def angle_error_deg(a: float | np.ndarray, b: float | np.ndarray) -> np.ndarray:
-    """Smallest difference between two line directions (degrees, modulo 180)."""
+    """Smallest difference between two line directions, modulo 180 degrees.
+
+    Parameters
+    ----------
+    a, b : float or numpy.ndarray
+        Directions, degrees (broadcast against each other).
+
+    Returns
+    -------
+    numpy.ndarray
+        Degrees in [0, 90].
+    """
     difference = np.abs(np.asarray(a) - np.asarray(b)) % 180.0
     return np.minimum(difference, 180.0 - difference)
 
@@ -48,8 +73,31 @@ def estimation_trials(
     progress: bool = False,
 ) -> list[dict]:
     """Blur every image by a linear kernel of each length at a random angle, add Gaussian noise
-    of each sigma, estimate length and angle blindly. One row per trial: image, length_px,
-    angle_deg, noise_sigma, estimated length and angle, their errors (px, degrees)."""
+    of each sigma, and estimate length and angle blindly.
+
+    Parameters
+    ----------
+    images : list of numpy.ndarray
+        Gray images (H, W), float in [0, 1].
+    lengths : iterable of float
+        Blur lengths L, pixels.
+    noise_sigmas : iterable of float
+        Standard deviations of the added Gaussian noise ([0, 1] intensities).
+    seed : int
+        Seed of the angles and the noise.
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    list of dict
+        One row per (image, length, sigma): image, length_px, angle_deg, noise_sigma,
+        estimated_length_px, estimated_angle_deg, length_error_px, angle_error_deg.
+
+    References
+    ----------
+    Eq. 1 of the paper (the blur model).
+    """
     rng = np.random.default_rng(seed)
     trials = [(i, float(L), float(s)) for i in range(len(images)) for L in lengths
               for s in noise_sigmas]  # fmt: skip

@@ -18,11 +18,36 @@ def photo_video(
     noise_sigma: float = 0.01,
     seed: int = 0,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """A blurred video made the GoPro way from a still photograph: a virtual high-frame-rate
-    camera pans over ``photo`` (``step_px`` per sub-frame at output scale, along ``angle_deg``,
-    with a small wobble); each stored frame is the mean of ``subframes`` consecutive sub-frames
-    in linear light (gamma 2.2) plus noise, its sharp frame the middle sub-frame. Returns uint8
-    (blurred, sharp), each (frames, height, width, 3)."""
+    """A blurred video made the GoPro way from a still photograph.
+
+    A virtual high-frame-rate camera pans over ``photo`` (with a small wobble); each stored
+    frame is the mean of ``subframes`` consecutive sub-frames in linear light (gamma 2.2) plus
+    noise, its sharp frame the middle sub-frame.
+
+    Parameters
+    ----------
+    photo : numpy.ndarray
+        RGB image (H, W, 3), uint8 or float in [0, 1].
+    frames : int
+        Number of stored frames.
+    subframes : int
+        Sub-frames averaged into each stored frame.
+    step_px : float
+        Pan per sub-frame, pixels at output scale.
+    angle_deg : float
+        Pan direction, degrees.
+    size : (int, int)
+        Output (width, height), pixels.
+    noise_sigma : float
+        Gaussian noise on the gamma-encoded [0, 1] intensities.
+    seed : int
+        Seed of the noise.
+
+    Returns
+    -------
+    blurred, sharp : numpy.ndarray
+        uint8, each (frames, height, width, 3).
+    """
     photo = as_float_image(photo)
     if photo.ndim != 3 or frames < 1 or subframes < 1:
         raise ValueError("photo must be RGB; frames and subframes must be positive")

@@ -21,10 +21,30 @@ def _shifted(image: np.ndarray, dx: float, dy: float) -> np.ndarray:
 def registered_psnr(
     reference: np.ndarray, estimate: np.ndarray, border: int = 8
 ) -> tuple[float, float, float]:
-    """How much of a PSNR loss is misregistration: the global sub-pixel shift of ``reference``
-    that best matches ``estimate`` (a Hann-windowed phase correlation, 1/20 px, refined by
-    minimising the squared error), and the PSNR before and after that shift. Returns (shift in
-    px, PSNR, registered PSNR); both PSNRs skip a ``border`` of pixels."""
+    """How much of a PSNR loss is misregistration.
+
+    Finds the global sub-pixel shift of ``reference`` that best matches ``estimate`` (a
+    Hann-windowed phase correlation at 1/20 px, refined by minimising the squared error) and
+    compares the PSNR before and after that shift.
+
+    Parameters
+    ----------
+    reference, estimate : numpy.ndarray
+        Images of one shape, (H, W) or (H, W, 3), uint8 or float in [0, 1].
+    border : int
+        Pixels skipped at each side in both PSNRs.
+
+    Returns
+    -------
+    shift : float
+        Length of the shift, pixels.
+    psnr, registered_psnr : float
+        dB (data range 1), before and after the shift.
+
+    References
+    ----------
+    Eq. 5-6 of the paper (PSNR).
+    """
     reference, estimate = as_float_image(reference), as_float_image(estimate)
     if reference.shape != estimate.shape or min(reference.shape[:2]) <= 2 * border + 8:
         raise ValueError(f"images must share a shape larger than the border, got "
