@@ -11,7 +11,17 @@ from .style import image_axis, styled
 
 @styled
 def plot_kernels(kernels: dict[str, np.ndarray]) -> plt.Figure:
-    """Blur kernels (PSFs) side by side, each titled by its label."""
+    """Blur kernels (PSFs) side by side, each titled by its label.
+
+    Parameters
+    ----------
+    kernels : dict
+        ``{label: kernel}``, each (k, k), non-negative, summing to 1.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     figure, axes = plt.subplots(1, len(kernels), figsize=(2.0 * len(kernels), 2.2))
     for axis, (label, kernel) in zip(np.atleast_1d(axes), kernels.items(), strict=True):
         axis.imshow(kernel, cmap="magma", interpolation="nearest")
@@ -29,8 +39,30 @@ def plot_spectra(
     length_px: float,
     angle_deg: float,
 ) -> plt.Figure:
-    """Sharp vs blurred image and their log power spectra; the blurred spectrum's dark stripes
-    (sinc zeros) run perpendicular to the motion, N / L bins apart (dashed: predicted zeros)."""
+    """Sharp and blurred image and their log power spectra.
+
+    The blurred spectrum's dark stripes (sinc zeros) run perpendicular to the motion, N / L
+    bins apart; dashed lines mark the predicted zeros.
+
+    Parameters
+    ----------
+    sharp, blurred : numpy.ndarray
+        Gray images (N, N), float in [0, 1].
+    spectrum_sharp, spectrum_blurred : numpy.ndarray
+        Their centred log power spectra (N, N).
+    length_px : float
+        Blur length L, pixels.
+    angle_deg : float
+        Motion direction, degrees.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Eq. 1 of the paper (the blur model whose spectrum this is).
+    """
     figure, axes = plt.subplots(1, 4, figsize=(11, 2.9))
     image_axis(axes[0], sharp, "sharp")
     image_axis(axes[1], blurred, f"blurred: L = {length_px:g} px, θ = {angle_deg:g}°")
@@ -59,7 +91,20 @@ def plot_spectra(
 @styled
 def plot_estimation_accuracy(rows: list[dict], noise_for_length: float) -> plt.Figure:
     """Median (line) and interquartile range (band) of the blind angle and length errors,
-    against the true length (at noise ``noise_for_length``) and against the noise sigma."""
+    against the true length and against the noise, with the accuracy aims (1.5°, 1 px) dotted.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Trials (:func:`blurloc.experiments.estimation.estimation_trials`): length_px,
+        noise_sigma, angle_error_deg (degrees), length_error_px (pixels).
+    noise_for_length : float
+        The noise sigma of the trials shown against the length.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     figure, axes = plt.subplots(1, 2, figsize=(10, 3.2))
     sweeps = (("length_px", "true blur length L (px)"),
               ("noise_sigma", "noise σ (images in [0, 1])"))  # fmt: skip
@@ -92,8 +137,19 @@ def plot_estimation_accuracy(rows: list[dict], noise_for_length: float) -> plt.F
 def plot_detection(
     scores: dict[str, tuple[np.ndarray, np.ndarray]], threshold: float
 ) -> plt.Figure:
-    """Histograms of the detector's score for sharp and blurred frames, one panel per named
-    (scores, labels) set, with the threshold."""
+    """Histograms of the detector's score for sharp and blurred frames, with the threshold.
+
+    Parameters
+    ----------
+    scores : dict
+        ``{panel title: (scores (N,), labels (N,) bool, True = blurred)}``, one panel each.
+    threshold : float
+        The detector's threshold on the score ln(P_mid / P_high).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     figure, axes = plt.subplots(1, len(scores), figsize=(5 * len(scores), 3), sharex=True)
     for axis, (name, (values, labels)) in zip(np.atleast_1d(axes), scores.items(), strict=True):
         bins = np.linspace(min(values.min(), threshold) - 0.5, values.max() + 0.5, 40)

@@ -10,9 +10,25 @@ from .style import image_axis, styled
 
 @styled
 def plot_deblurring_process(rows: list[dict]) -> plt.Figure:
-    """Fig. 3, the image deblurring process: blurred image → its log spectrum (with the
-    estimated motion direction) → the estimated PSF → the restored image → the sharp truth.
-    Each row: dict with blurred, spectrum, angle_deg, kernel, restored, sharp, title."""
+    """Fig. 3, the image deblurring process, one row per example: the blurred image, its log
+    spectrum with the estimated motion direction, the estimated PSF, the restored image and the
+    sharp truth.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Each with ``blurred``, ``restored``, ``sharp`` (images, float [0, 1] or uint8),
+        ``spectrum`` (N, N), ``angle_deg`` (degrees), ``kernel`` (k, k), ``length_px`` (pixels)
+        and ``title``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Fig. 3 and eq. 4 of the paper.
+    """
     figure, axes = plt.subplots(len(rows), 5, figsize=(13, 2.7 * len(rows)), squeeze=False)
     for row, item in zip(axes, rows, strict=True):
         image_axis(row[0], item["blurred"], f"{item['title']}: blurred")

@@ -14,9 +14,24 @@ from .style import METHOD_COLOURS, PAPER_COLOUR, styled
 
 @styled
 def plot_pipeline(panels: list[dict], truth: np.ndarray, predicted: np.ndarray) -> plt.Figure:
-    """Fig. 2: one frame through the pipeline. ``panels``: dicts with ``image`` (RGB, grey or a
-    2-D map), ``title`` and optional ``cmap``, in processing order; the last panel shows the
-    true and predicted camera path (positions (N, 3), seen from above: x vs z)."""
+    """Fig. 2: one frame through the pipeline, panels in processing order, then the true and
+    predicted camera path seen from above (x against z).
+
+    Parameters
+    ----------
+    panels : list of dict
+        Each with ``image`` (RGB, gray or a 2-D map), ``title`` and optional ``cmap``.
+    truth, predicted : numpy.ndarray
+        Camera positions (N, 3), metres.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Fig. 2 of the paper.
+    """
     count = len(panels) + 1
     figure, axes = plt.subplots(1, count, figsize=(2.3 * count, 2.6))
     for axis, panel in zip(axes, panels, strict=False):
@@ -46,8 +61,24 @@ def plot_pipeline(panels: list[dict], truth: np.ndarray, predicted: np.ndarray) 
 @styled
 def plot_predicted_views(views: dict[str, dict[str, np.ndarray]], captions: dict[str, str]
                          ) -> plt.Figure:  # fmt: skip
-    """Fig. 5: one column per scene ({scene: {row label: image}}), rows in the dicts' order (e.g.
-    input, deblurred, ground truth, predicted); ``captions`` under each column."""
+    """Fig. 5: one column per scene, one row per kind of view (e.g. input, deblurred, ground
+    truth, rendered at the predicted pose), captions under the columns.
+
+    Parameters
+    ----------
+    views : dict
+        ``{scene: {row label: image}}``, rows in the dicts' order, the same labels per scene.
+    captions : dict
+        ``{scene: caption}``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Fig. 5 of the paper.
+    """
     scenes = list(views)
     labels = list(views[scenes[0]])
     figure, axes = plt.subplots(len(labels), len(scenes), squeeze=False,
@@ -73,9 +104,26 @@ def plot_error_distributions(
     paper: dict[str, dict[str, float]] | None = None,
     ylabel: str = "combined error (eq. 14, per frame)",
 ) -> plt.Figure:
-    """Fig. 10: per scene, the distribution of per-frame errors for each condition
-    ({scene: {condition: values}}) as violins with the median marked; optionally a second panel
-    with the paper's printed per-scene values ({label: {scene: value}}), labelled "paper"."""
+    """Fig. 10: per scene, the distribution of per-frame errors for each condition (violins,
+    median marked); optionally a second panel with the paper's printed values.
+
+    Parameters
+    ----------
+    errors : dict
+        ``{scene: {condition: per-frame errors (N,)}}``.
+    paper : dict, optional
+        ``{label: {scene: printed value}}``, drawn hatched grey and labelled "paper".
+    ylabel : str
+        Label of the error axis.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Fig. 10 and eq. 14 of the paper.
+    """
     scenes = list(errors)
     conditions = list(errors[scenes[0]])
     colours = [METHOD_COLOURS.get(c, f"C{i}") for i, c in enumerate(conditions)]

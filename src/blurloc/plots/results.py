@@ -13,9 +13,25 @@ from .style import METHOD_COLOURS, PAPER_COLOUR, styled
 
 @styled
 def plot_architecture(stages: list[list[str]], title: str) -> plt.Figure:
-    """Fig. 1: the architecture as boxes, one column per stage in data-flow order; alternatives
-    of a stage (e.g. image vs video deblurring) are stacked in its column. The box texts come
-    from the caller, built from the package's own objects, so the figure follows the code."""
+    """Fig. 1: the architecture as boxes, one column per stage in data-flow order; the
+    alternatives of a stage (e.g. image or video deblurring) are stacked in its column.
+
+    Parameters
+    ----------
+    stages : list of list of str
+        Box texts per stage, built by the caller from the package's own objects, so that the
+        figure follows the code.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Fig. 1 of the paper.
+    """
     colours = ["#eeeeee", "#fdd0a2", "#c6dbef", "#c7e9c0", "#dadaeb", "#fcbba1", "#eeeeee"]
     step, width = 2.45, 2.15
     figure, axis = plt.subplots(figsize=(2.0 * len(stages), 3.3))
@@ -48,8 +64,22 @@ def plot_per_scene_metric(
     ylabel: str,
     title: str,
 ) -> plt.Figure:
-    """Grouped bars per scene: each measured method ({method: {scene: value}}) and the paper's
-    printed values (hatched grey, labelled "paper")."""
+    """Grouped bars per scene: each measured method and the paper's printed values (hatched
+    grey, labelled "paper (printed)").
+
+    Parameters
+    ----------
+    measured : dict
+        ``{method: {scene: value}}``.
+    paper : dict
+        ``{scene: printed value}``; its scenes set the order.
+    ylabel, title : str
+        Axis label (with the unit) and title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     scenes = list(paper)
     series = [(name, values, METHOD_COLOURS.get(name, None), None)
               for name, values in measured.items()]  # fmt: skip
@@ -72,8 +102,20 @@ def plot_per_scene_metric(
 
 @styled
 def plot_ratios(groups: dict[str, list[float]], title: str) -> plt.Figure:
-    """Measured / printed ratios, one column of dots per group ({label: ratios}), log scale,
-    with the line of agreement at 1."""
+    """Measured / printed ratios, one column of dots per group, on a log scale with the line
+    of agreement at 1.
+
+    Parameters
+    ----------
+    groups : dict
+        ``{label: [ratios]}``.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     figure, axis = plt.subplots(figsize=(9, 3.2))
     for index, ratios in enumerate(groups.values()):
         spread = np.linspace(-0.15, 0.15, len(ratios))

@@ -44,8 +44,25 @@ def plot_exposure(
     tracks: np.ndarray,
     times_ms: Sequence[float],
 ) -> plt.Figure:
-    """How a blurred frame is made: sharp renders over the exposure, their average, and the
-    image paths of scene points over the exposure (they differ from point to point)."""
+    """How a blurred frame is made: sharp renders over the exposure, their average in linear
+    light, and the image paths of scene points over the exposure (they differ from point to
+    point).
+
+    Parameters
+    ----------
+    sub_frames : sequence of numpy.ndarray
+        Sharp renders (H, W, 3) at times over the exposure.
+    blurred : numpy.ndarray
+        Their average (H, W, 3), gamma-encoded.
+    tracks : numpy.ndarray
+        (samples, points, 2): image positions of scene points over the exposure, pixels.
+    times_ms : sequence of float
+        Time of each sub-frame from mid-exposure, milliseconds.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     count = len(sub_frames)
     figure, axes = plt.subplots(1, count + 2, figsize=(2.3 * (count + 2), 2.3))
     for axis, frame, time in zip(axes[:count], sub_frames, times_ms, strict=True):
@@ -142,7 +159,20 @@ def plot_blur_pairs(
 def plot_blur_histogram(
     records: list[dict], thresholds: tuple[float, float] = (3.0, 8.0)
 ) -> plt.Figure:
-    """Histogram of the per-frame blur extent (mean path length over the exposure, px)."""
+    """Histogram of the per-frame blur extent, with its median, 90th percentile and two
+    thresholds.
+
+    Parameters
+    ----------
+    records : list of dict
+        Per-frame blur records with ``mean_px`` (mean path length over the exposure, pixels).
+    thresholds : (float, float)
+        Extents drawn as dotted lines, pixels.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     extent = np.array([r["mean_px"] for r in records])
     figure, axis = plt.subplots(figsize=(5.5, 3.0))
     axis.hist(extent, bins=np.arange(0, extent.max() + 1.0, 0.5), color="#555555")

@@ -25,8 +25,21 @@ def _arrow(axis: plt.Axes, start: tuple, end: tuple, text: str = "") -> None:
 @styled
 def plot_video_network(strip: dict[str, list[np.ndarray]] | None = None) -> plt.Figure:
     """Fig. 4: the recurrent deblurring network of eq. 8-11 as built in
-    ``blurloc.models.video_deblur``, and (optionally) a test sequence, one row per method
-    ({label: frames})."""
+    :mod:`blurloc.models.video_deblur`, optionally above a test sequence, one row per method.
+
+    Parameters
+    ----------
+    strip : dict, optional
+        ``{row label: [frames]}``, RGB frames, the same count in every row.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Fig. 4 and eq. 8-11 of the paper.
+    """
     rows = len(strip) if strip else 0
     columns = len(next(iter(strip.values()))) if strip else 1
     figure = plt.figure(figsize=(11, 3.4 + 1.9 * rows))
@@ -72,7 +85,19 @@ def plot_video_network(strip: dict[str, list[np.ndarray]] | None = None) -> plt.
 def plot_training_curves(
     histories: dict[str, dict], reference_db: float | None = None
 ) -> plt.Figure:
-    """Training loss and validation PSNR against the step, one line per model."""
+    """Training loss and validation PSNR against the step, one line per model.
+
+    Parameters
+    ----------
+    histories : dict
+        ``{model: {"step": [...], "train_loss": [...], "val_psnr": [...] (dB)}}``.
+    reference_db : float, optional
+        PSNR of the blurred input, drawn as a dotted line.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     figure, axes = plt.subplots(1, 2, figsize=(10, 3.2))
     for name, history in histories.items():
         axes[0].plot(history["step"], history["train_loss"], "o-", label=name, ms=3)
@@ -89,8 +114,24 @@ def plot_training_curves(
 
 @styled
 def plot_attention(frame: np.ndarray, weights: np.ndarray, restored: np.ndarray) -> plt.Figure:
-    """A blurred frame, the blending weight w_t of eq. 10 (share of the current frame's
-    features; the rest comes from the blended past), and the restored frame."""
+    """A blurred frame, the blending weight w_t of eq. 10 (the share of the current frame's
+    features; the rest comes from the blended past) and the restored frame.
+
+    Parameters
+    ----------
+    frame, restored : numpy.ndarray
+        RGB frames (H, W, 3), uint8 or float [0, 1].
+    weights : numpy.ndarray
+        (h, w) in [0, 1].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Eq. 10 of the paper.
+    """
     figure, axes = plt.subplots(1, 3, figsize=(10, 2.8))
     image_axis(axes[0], frame, "blurred B_t")
     shown = axes[1].imshow(weights, cmap="viridis", vmin=0, vmax=1)
