@@ -13,8 +13,14 @@ REPORTED_NUMBERS = Path(__file__).with_name("reported_numbers.csv")
 
 @cache
 def reported_numbers() -> tuple[dict, ...]:
-    """Every row of reported_numbers.csv (source, item, method, scene, metric, value, note),
-    ``value`` as float, exact duplicate rows dropped."""
+    """Every number the paper printed (and the compared methods' original numbers).
+
+    Returns
+    -------
+    tuple of dict
+        Rows of reported_numbers.csv (source, item, method, scene, metric, value, note),
+        ``value`` as float, exact duplicate rows dropped.
+    """
     rows, seen = [], set()
     with open(REPORTED_NUMBERS, newline="") as handle:
         for record in csv.DictReader(handle):
@@ -27,7 +33,27 @@ def reported_numbers() -> tuple[dict, ...]:
 
 
 def paper_values(item: str, metric: str, method: str | None = None) -> dict[str, float]:
-    """Per-scene values of one printed item (e.g. ``fig6``, ``psnr_db``) as {scene: value}."""
+    """Per-scene values of one printed item.
+
+    Parameters
+    ----------
+    item : str
+        E.g. ``fig6``, ``table1``.
+    metric : str
+        E.g. ``psnr_db``, ``rmse``.
+    method : str, optional
+        Restrict to one method's rows.
+
+    Returns
+    -------
+    dict
+        ``{scene: printed value}`` (units as printed).
+
+    Raises
+    ------
+    KeyError
+        If the paper printed no such values.
+    """
     values = {
         row["scene"]: row["value"]
         for row in reported_numbers()

@@ -77,8 +77,22 @@ def _read_csv(path: Path) -> list[dict]:
 
 
 def measured_numbers(results_dir: str | os.PathLike) -> dict[tuple[str, str, str, str], float]:
-    """This package's measured counterparts of the printed numbers, keyed like the paper's rows:
-    (item, method, scene, metric). See :data:`MEASURED_COUNTERPARTS` for what each one is."""
+    """This package's measured counterparts of the printed numbers.
+
+    See :data:`MEASURED_COUNTERPARTS` for what each one is.
+
+    Parameters
+    ----------
+    results_dir : str or os.PathLike
+        Folder holding ``deblur_single_image.csv`` (notebook 02) and ``pose_summary.csv``
+        (notebook 04).
+
+    Returns
+    -------
+    dict
+        ``{(item, method, scene, metric): value}``, keyed like the paper's rows (PSNR in dB,
+        positions in metres, orientations in degrees).
+    """
     results_dir = Path(results_dir)
     measured: dict[tuple[str, str, str, str], float] = {}
 
@@ -117,8 +131,20 @@ def _counterpart(row: dict, measured: dict) -> float | None:
 
 
 def paper_vs_reproduction(measured: dict[tuple[str, str, str, str], float]) -> list[dict]:
-    """Every row of reported_numbers.csv with the measured number for the same quantity (empty
-    where this package measures none, e.g. the compared methods) and measured / printed."""
+    """Every printed number beside the measured number for the same quantity.
+
+    Parameters
+    ----------
+    measured : dict
+        :func:`measured_numbers`.
+
+    Returns
+    -------
+    list of dict
+        One row per row of reported_numbers.csv: source, item, method, scene, metric,
+        printed, measured (empty where this package measures none, e.g. the compared
+        methods), ratio (measured / printed) and measured_as (what was measured).
+    """
     rows = []
     for row in reported_numbers():
         value = _counterpart(row, measured)
@@ -152,10 +178,16 @@ def _rounding(value: float) -> float:
 
 
 def average_errata() -> list[dict]:
-    """Printed averages vs the mean of the same row's printed per-scene values.
+    """Printed averages against the mean of the same row's printed per-scene values.
 
-    ``agrees`` is False where the two differ by more than rounding explains (half a unit in the
-    last decimal of the average plus half a unit of the per-scene values)."""
+    ``agrees`` is False where the two differ by more than rounding explains (half a unit in
+    the last decimal of the average plus half a unit of the per-scene values).
+
+    Returns
+    -------
+    list of dict
+        Rows with kind, where, metric, printed, recomputed, agrees (bool), detail.
+    """
     rows = []
     for (_, item, method, metric), values in _groups().items():
         scenes = [v for s, v in values.items() if s != "average"]
@@ -173,7 +205,13 @@ def average_errata() -> list[dict]:
 
 
 def repeated_number_errata() -> list[dict]:
-    """Numbers printed twice (abstract or text vs Table III) that disagree with each other."""
+    """Numbers printed twice (abstract or text and Table III) that disagree.
+
+    Returns
+    -------
+    list of dict
+        Rows with kind, where, metric, printed, recomputed, agrees (bool), detail.
+    """
     table3 = {(r["method"], r["scene"], r["metric"]): r["value"]
               for r in reported_numbers() if r["item"] == "table3"}  # fmt: skip
     rows = []
@@ -194,7 +232,13 @@ def repeated_number_errata() -> list[dict]:
 
 
 def publication_errata() -> list[dict]:
-    """Table III's rows for compared methods vs the numbers of their original publications."""
+    """Table III's rows for compared methods against their original publications.
+
+    Returns
+    -------
+    list of dict
+        Rows with kind, where, metric, printed, recomputed, agrees (bool), detail.
+    """
     printed = _groups("table3")
     original = _groups("median_7scenes")
     rows = []
@@ -215,7 +259,13 @@ def publication_errata() -> list[dict]:
 
 
 def text_claim_errata() -> list[dict]:
-    """The text's ranking claims (:data:`TEXT_CLAIMS`) checked against the printed numbers."""
+    """The text's ranking claims (:data:`TEXT_CLAIMS`) checked against the printed numbers.
+
+    Returns
+    -------
+    list of dict
+        Rows with kind, where, metric, printed, recomputed, agrees (bool), detail.
+    """
     rows = []
     for where, claim, item, method, metric, extreme, scene in TEXT_CLAIMS:
         values = {s: v for s, v in _groups(item)[("seed", item, method, metric)].items()
@@ -233,8 +283,14 @@ def text_claim_errata() -> list[dict]:
 
 
 def printing_notes() -> list[dict]:
-    """The CSV's notes on how the tables and figures were printed (wrong column names, units,
-    typos, scene names), one row per note and printed item."""
+    """How the tables and figures were printed (wrong column names, units, typos, scene
+    names), one row per note and printed item; ``agrees`` is always False.
+
+    Returns
+    -------
+    list of dict
+        Rows with kind, where, metric, printed, recomputed, agrees (bool), detail.
+    """
     scenes: dict[tuple[str, str, str, str], list[str]] = defaultdict(list)
     for row in reported_numbers():
         if row["note"] and row["source"] == "seed" and row["item"] in ("fig6", "fig7", "table1",
@@ -248,17 +304,36 @@ def printing_notes() -> list[dict]:
 
 
 def errata() -> list[dict]:
-    """Every check on the paper's printed numbers: averages, repeated numbers, copied rows, text
-    claims, printing notes. Filter on ``agrees`` is False for the disagreements."""
+    """Every check on the paper's printed numbers: averages, repeated numbers, copied rows,
+    text claims, printing notes. Filter on ``agrees`` is False for the disagreements.
+
+    Returns
+    -------
+    list of dict
+        Rows with kind, where, metric, printed, recomputed, agrees (bool), detail.
+    """
     return (average_errata() + repeated_number_errata() + publication_errata()
             + text_claim_errata() + printing_notes())  # fmt: skip
 
 
 def pose_comparison_rows(measured: dict[str, dict[str, tuple[float, float]]]) -> list[dict]:
-    """Table III: per-scene (position m, orientation °) as printed by the paper (its Table III),
-    as originally published by the compared methods, and as measured here
-    ({label: {scene: (position, orientation)}}, scene ``average`` included); one labelled row
-    each, cells formatted like the paper's ("0.14 m, 3.76°")."""
+    """Table III: per-scene pose errors as printed, as originally published by the compared
+    methods, and as measured here; cells formatted like the paper's ("0.14 m, 3.76°").
+
+    Parameters
+    ----------
+    measured : dict
+        ``{label: {scene: (position m, orientation degrees)}}``, scene ``average`` included.
+
+    Returns
+    -------
+    list of dict
+        One labelled row per method and source (source, method, one cell per scene).
+
+    References
+    ----------
+    Table III of the paper.
+    """
     rows = []
 
     def add(source: str, method: str, values: dict[str, tuple[float, float]]) -> None:

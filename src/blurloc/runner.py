@@ -113,12 +113,30 @@ EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
 
 
 def notebook_names() -> list[str]:
-    """Names (without .ipynb) of the notebooks in ``notebooks/``, in run order."""
+    """Names of the notebooks in run order.
+
+    Returns
+    -------
+    list of str
+        Stems (without .ipynb) of ``notebooks/*.ipynb``, sorted.
+    """
     return sorted(path.stem for path in NOTEBOOKS_DIR.glob("[0-9][0-9]_*.ipynb"))
 
 
 def default_parameters(quick: bool) -> dict:
-    """The parameters ``make reproduce`` passes: quick runs stay out of figures/ and results/."""
+    """The parameters ``make reproduce`` passes to every notebook.
+
+    Parameters
+    ----------
+    quick : bool
+        Quick runs use the tiny stand-in and write under ``build/quick`` (never into
+        ``figures/`` or ``results/``).
+
+    Returns
+    -------
+    dict
+        quick, seed, data_root, results_dir, figures_dir.
+    """
     if quick:
         return {
             "quick": True,
@@ -148,8 +166,25 @@ def run_notebooks(
 ) -> list[tuple]:
     """Execute notebooks in order with papermill (kernel ``python3``).
 
-    Executed copies go to ``output_dir`` (default ``build/`` or ``build/quick``); the time per
-    notebook is printed and written to ``timings.csv`` there. Returns (name, seconds) rows.
+    Parameters
+    ----------
+    quick : bool
+        Small sizes (as in the tests).
+    names : list of str, optional
+        Notebooks to run (default: all, in order).
+    parameters : dict, optional
+        Overrides of :func:`default_parameters`.
+    output_dir : str or os.PathLike, optional
+        Where executed copies and ``timings.csv`` go (default ``build/`` or ``build/quick``).
+    cell_timeout_s : int, optional
+        Time limit per cell, seconds.
+    log_output : bool
+        Stream the notebooks' output.
+
+    Returns
+    -------
+    list of tuple
+        (name, seconds) per notebook run.
     """
     import papermill
 
