@@ -12,11 +12,12 @@ import os
 from pathlib import Path
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from .data.sevenscenes import DataError, list_sequence
 from .geometry import quaternion_to_rotation, rotation_to_quaternion
 from .metrics import error_statistics, orientation_errors_deg, position_errors
-from .poses import PosePair, from_quaternions, to_quaternions
+from .poses import PosePair, to_quaternions
 
 #: Quaternions whose norm differs from 1 by more than this are refused (not silently fixed).
 UNIT_TOLERANCE = 1e-3
@@ -44,8 +45,8 @@ def write_tum(path: str | os.PathLike, stamps: np.ndarray, poses: np.ndarray) ->
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     lines = []
-    quaternions = rotation_to_quaternion(np.asarray(poses)[:, :3, :3])
-    for stamp, pose, (w, x, y, z) in zip(stamps, poses, quaternions, strict=True):
+    quaternions = Rotation.from_matrix(np.asarray(poses)[:, :3, :3]).as_quat(canonical=True)
+    for stamp, pose, (x, y, z, w) in zip(stamps, poses, quaternions, strict=True):
         tx, ty, tz = pose[:3, 3]
         lines.append(f"{stamp:g} {tx:.6f} {ty:.6f} {tz:.6f} {x:.8f} {y:.8f} {z:.8f} {w:.8f}")
     path.write_text("\n".join(lines) + "\n")
@@ -108,7 +109,7 @@ def read_tum(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarra
         raise DataError(f"{path}: no poses in this file")
     table = np.array(rows)
     positions = table[:, 1:4]
-    quaternions = to_quaternions(from_quaternions(table[:, [7, 4, 5, 6]]))
+    quaternions = to_quaternions(Rotation.from_quat(table[:, 4:]))  # TUM: scalar last
     stamps, first = np.unique(table[:, 0], return_index=True)
     if len(stamps) == len(table):
         return table[:, 0], positions, quaternions
