@@ -108,7 +108,8 @@ def test_per_scene_bars_and_error_distributions() -> None:
     assert all(bar.get_hatch() == "//" for bar in printed)
     errors = {"chess": {"blurred": np.arange(5.0), "rnn": np.arange(5.0) / 2},
               "fire": {"blurred": np.ones(4), "rnn": np.ones(4)}}  # fmt: skip
-    assert len(plots.plot_error_distributions(errors).axes) == 1
+    figure = plots.plot_error_distributions(errors, title="Fig. 10")
+    assert len(figure.axes) == 1 and figure.get_suptitle() == "Fig. 10"
     figure = plots.plot_error_distributions(errors, {"paper LSTM": paper})
     assert len(figure.axes) == 2
     assert [bar.get_height() for bar in figure.axes[1].containers[0]] == [30.0, 29.0]

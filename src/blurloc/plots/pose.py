@@ -13,7 +13,9 @@ from .style import METHOD_COLOURS, PAPER_COLOUR, styled
 
 
 @styled
-def plot_pipeline(panels: list[dict], truth: np.ndarray, predicted: np.ndarray) -> plt.Figure:
+def plot_pipeline(
+    panels: list[dict], truth: np.ndarray, predicted: np.ndarray, title: str = ""
+) -> plt.Figure:
     """Fig. 2: one frame through the pipeline, panels in processing order, then the true and
     predicted camera path seen from above (x against z).
 
@@ -23,6 +25,8 @@ def plot_pipeline(panels: list[dict], truth: np.ndarray, predicted: np.ndarray) 
         Each with ``image`` (RGB, gray or a 2-D map), ``title`` and optional ``cmap``.
     truth, predicted : numpy.ndarray
         Camera positions (N, 3), metres.
+    title : str
+        Figure title (none when empty).
 
     Returns
     -------
@@ -55,12 +59,15 @@ def plot_pipeline(panels: list[dict], truth: np.ndarray, predicted: np.ndarray) 
         figure.add_artist(ConnectionPatch((1.02, 0.5), (-0.02, 0.5), "axes fraction",
                                           "axes fraction", axesA=left, axesB=right,
                                           arrowstyle="->", color="#333333"))  # fmt: skip
+    if title:
+        figure.suptitle(title, y=1.04)
     return figure
 
 
 @styled
-def plot_predicted_views(views: dict[str, dict[str, np.ndarray]], captions: dict[str, str]
-                         ) -> plt.Figure:  # fmt: skip
+def plot_predicted_views(
+    views: dict[str, dict[str, np.ndarray]], captions: dict[str, str], title: str = ""
+) -> plt.Figure:
     """Fig. 5: one column per scene, one row per kind of view (e.g. input, deblurred, ground
     truth, rendered at the predicted pose), captions under the columns.
 
@@ -70,6 +77,8 @@ def plot_predicted_views(views: dict[str, dict[str, np.ndarray]], captions: dict
         ``{scene: {row label: image}}``, rows in the dicts' order, the same labels per scene.
     captions : dict
         ``{scene: caption}``.
+    title : str
+        Figure title (none when empty).
 
     Returns
     -------
@@ -95,6 +104,8 @@ def plot_predicted_views(views: dict[str, dict[str, np.ndarray]], captions: dict
             if column == 0:
                 axis.set_ylabel(label, fontsize=8)
         axes[-1, column].set_xlabel(captions.get(scene, ""), fontsize=7)
+    if title:
+        figure.suptitle(title, y=1.02)
     return figure
 
 
@@ -103,6 +114,7 @@ def plot_error_distributions(
     errors: dict[str, dict[str, np.ndarray]],
     paper: dict[str, dict[str, float]] | None = None,
     ylabel: str = "combined error (eq. 14, per frame)",
+    title: str = "",
 ) -> plt.Figure:
     """Fig. 10: per scene, the distribution of per-frame errors for each condition (violins,
     median marked); optionally a second panel with the paper's printed values.
@@ -115,6 +127,8 @@ def plot_error_distributions(
         ``{label: {scene: printed value}}``, drawn hatched grey and labelled "paper".
     ylabel : str
         Label of the error axis.
+    title : str
+        Figure title (none when empty).
 
     Returns
     -------
@@ -159,4 +173,6 @@ def plot_error_distributions(
         axis.set_ylim(min(min(v.values()) for v in paper.values()) * 0.85,
                       max(max(v.values()) for v in paper.values()) * 1.05)  # fmt: skip
         axis.legend(fontsize=6, loc="upper left")
+    if title:
+        figure.suptitle(title, y=1.02)
     return figure
