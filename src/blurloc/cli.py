@@ -9,6 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from .config import DEFAULT_SEED
+from .files import check_output_not_input
 from .images import IMAGE_SUFFIXES
 
 
@@ -83,7 +84,14 @@ def _load_kernel(path: Path):
     if not path.is_file():
         raise ValueError(f"{path}: kernel file is missing")
     if path.suffix == ".npy":
-        kernel = np.load(path, allow_pickle=False)
+        try:
+            kernel = np.load(path, allow_pickle=False)
+        except (ValueError, EOFError, OSError) as error:
+            reason = ("it holds Python objects, not numbers" if "allow_pickle" in str(error)
+                      else error)  # fmt: skip
+            raise ValueError(f"{path}: not a numeric NumPy kernel ({reason})") from None
+        if not isinstance(kernel, np.ndarray) or kernel.dtype.kind not in "biuf":
+            raise ValueError(f"{path}: kernel must hold real numbers, found {kernel.dtype}")
     else:
         import cv2
 
@@ -96,11 +104,79 @@ def _load_kernel(path: Path):
         raise ValueError(f"{path}: {error}") from error
 
 
-def _deblur(args: argparse.Namespace) -> int:
-    import cv2
+#: Output suffixes that store 16-bit samples and an alpha channel (others store 8-bit colour).
+_DEEP_SUFFIXES = (".png", ".tif", ".tiff")
 
-    from .blur import motion_kernel
-    from .data import read_image
+
+def _read_deblur_input(path: Path):
+    """An image to deblur at its own bit depth: (gray or RGB pixels, alpha or None, max value).
+
+    8-bit images stay uint8; 16-bit ones become float64 on [0, 1] (the filters keep float)."""
+    import cv2
+    import numpy as np
+
+    if not path.is_file():
+        raise ValueError(f"{path}: image file is missing")
+    image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    if image is None:
+        raise ValueError(f"{path}: image cannot be read (damaged or not an image)")
+    channels = image.shape[2] if image.ndim == 3 else 1
+    if image.dtype not in (np.uint8, np.uint16) or channels not in (1, 3, 4):
+        raise ValueError(f"{path}: {image.dtype} image with shape {image.shape} not supported; "
+                         "use 8- or 16-bit gray, RGB or RGBA images")  # fmt: skip
+    alpha = image[..., 3] if image.ndim == 3 and image.shape[2] == 4 else None
+    pixels = image if image.ndim == 2 else image[..., 2::-1]  # BGR(A) -> RGB
+    top = np.iinfo(image.dtype).max
+    return (pixels.copy() if top == 255 else pixels / top), alpha, top
+
+
+def _write_deblur_output(path: Path, restored, alpha, top: int, source: Path) -> None:
+    """Write a restored image at the input's depth with its alpha, where the suffix allows;
+    say so on stderr when it does not."""
+    import cv2
+    import numpy as np
+
+    from .files import atomic_path
+
+    deep = path.suffix.lower() in _DEEP_SUFFIXES
+    if not deep and (top > 255 or alpha is not None):
+        print(f"warning: {path}: {path.suffix} stores 8-bit colour only; the 16-bit depth or "
+              f"alpha of {source} is not kept (write .png or .tif to keep them)",
+              file=sys.stderr)  # fmt: skip
+    if top > 255:
+        scale = 65535.0 if deep else 255.0
+        dtype = np.uint16 if deep else np.uint8
+        restored = np.round(np.clip(restored, 0.0, 1.0) * scale).astype(dtype)
+        if alpha is not None and not deep:
+            alpha = (alpha // 257).astype(np.uint8)
+    pixels = restored if restored.ndim == 2 else restored[..., ::-1]
+    if alpha is not None and deep:
+        pixels = np.dstack([cv2.cvtColor(pixels, cv2.COLOR_GRAY2BGR) if pixels.ndim == 2
+                            else pixels, alpha])  # fmt: skip
+    with atomic_path(path) as temporary:
+        try:
+            written = cv2.imwrite(str(temporary), pixels)
+        except cv2.error:
+            written = False
+        if not written:
+            raise ValueError(f"{path}: cannot write this image")
+
+
+def _check_length(length: float, shape: tuple[int, ...], path: Path) -> None:
+    """Refuse a blur length whose kernel (an odd square of about length + 4 px) would not fit
+    inside the image."""
+    short = min(shape[:2])
+    limit = 2 * ((short - 1) // 2) - 2
+    if length > limit:
+        raise ValueError(f"{path}: --length {length:g} px is too long for this "
+                         f"{shape[1]}x{shape[0]} image; at most {limit} px (the kernel must fit "
+                         "inside the image)")  # fmt: skip
+
+
+def _deblur(args: argparse.Namespace) -> int:
+    import math
+
+    from .blur import check_kernel, motion_kernel
     from .deconv import deblur_blind, wiener_deconvolve
 
     source, target = Path(args.input), Path(args.output)
@@ -108,32 +184,46 @@ def _deblur(args: argparse.Namespace) -> int:
         raise ValueError("give both --length and --angle, or neither")
     if args.kernel and args.length is not None:
         raise ValueError("give --kernel or --length/--angle, not both")
-    if args.nsr is not None and args.nsr <= 0:
-        raise ValueError(f"--nsr must be > 0, got {args.nsr}")
-    kernel = None
-    if args.kernel:
-        kernel = _load_kernel(Path(args.kernel))
-    elif args.length is not None:
-        kernel = motion_kernel(args.length, args.angle)
+    if args.nsr is not None and not (math.isfinite(args.nsr) and args.nsr > 0):
+        raise ValueError(f"--nsr must be a finite number > 0, got {args.nsr}")
+    if args.length is not None and not (math.isfinite(args.length) and args.length > 0):
+        raise ValueError(f"--length must be a finite number of pixels > 0, got {args.length}")
+    if args.angle is not None and not math.isfinite(args.angle):
+        raise ValueError(f"--angle must be a finite number of degrees, got {args.angle}")
+    check_output_not_input(target, source, args.kernel)
     if source.is_dir():
+        if target.exists() and not target.is_dir():
+            raise ValueError(f"{target}: exists and is not a folder (the input is a folder)")
         pairs = [(p, target / p.name) for p in sorted(source.iterdir())
-                 if p.suffix.lower() in IMAGE_SUFFIXES]  # fmt: skip
+                 if p.suffix.lower() in IMAGE_SUFFIXES and p.is_file()]  # fmt: skip
         if not pairs:
             raise ValueError(f"{source}: no images in this folder")
-        target.mkdir(parents=True, exist_ok=True)
     elif source.is_file():
+        if target.is_dir():
+            raise ValueError(f"{target}: is a folder; give an image file as the output")
+        if target.suffix.lower() not in IMAGE_SUFFIXES:
+            raise ValueError(f"{target}: output must be an image file ending in "
+                             f"{', '.join(IMAGE_SUFFIXES)}")  # fmt: skip
         pairs = [(source, target)]
     else:
         raise ValueError(f"{source}: no such file or folder")
+    kernel = _load_kernel(Path(args.kernel)) if args.kernel else None
     for path_in, path_out in pairs:
-        image = read_image(path_in)
+        image, alpha, top = _read_deblur_input(path_in)
+        if args.length is not None:
+            _check_length(args.length, image.shape, path_in)
+            kernel = motion_kernel(args.length, args.angle) if kernel is None else kernel
+        elif kernel is not None:
+            try:
+                check_kernel(kernel, image.shape)
+            except ValueError as error:
+                raise ValueError(f"{args.kernel}: {error} of {path_in}") from error
         try:
             restored = (deblur_blind(image, args.nsr) if kernel is None
                         else wiener_deconvolve(image, kernel, args.nsr))  # fmt: skip
         except ValueError as error:
             raise ValueError(f"{path_in}: {error}") from error
-        if not cv2.imwrite(str(path_out), restored[..., ::-1]):
-            raise ValueError(f"{path_out}: cannot write this image (folder or suffix?)")
+        _write_deblur_output(path_out, restored, alpha, top, path_in)
         print(path_out)
     return 0
 
@@ -156,6 +246,7 @@ def _train_video_deblur(args: argparse.Namespace) -> int:
 
 
 def _deblur_video(args: argparse.Namespace) -> int:
+    check_output_not_input(args.output, args.input, args.checkpoint)
     import cv2
 
     from .train import load_video_deblur
@@ -209,6 +300,7 @@ def _input_root(data: str, condition: str) -> Path:
 
 
 def _eval_pose(args: argparse.Namespace) -> int:
+    check_output_not_input(args.out, args.model)
     import numpy as np
 
     from .data import load_split
