@@ -82,14 +82,11 @@ def read_depth(path: str | os.PathLike) -> np.ndarray:
     return depth.astype(np.float32) / 1000.0
 
 
-def read_split(scene_dir: str | os.PathLike, split: str) -> list[int]:
-    """Sequence numbers listed in a scene's TrainSplit.txt or TestSplit.txt."""
-    if split not in SPLIT_FILES:
-        raise ValueError(f"split must be one of {sorted(SPLIT_FILES)}, got {split!r}")
-    path = Path(scene_dir) / SPLIT_FILES[split]
+def _parse_split(path: Path) -> list[int]:
+    """Sequence numbers of one split file, in order; DataError on a bad or repeated line."""
     if not path.is_file():
         raise DataError(f"{path}: split file is missing")
-    numbers = []
+    numbers: list[int] = []
     for line_number, line in enumerate(path.read_text().splitlines(), start=1):
         line = line.strip()
         if not line:
@@ -97,7 +94,43 @@ def read_split(scene_dir: str | os.PathLike, split: str) -> list[int]:
         match = _SPLIT_LINE.match(line)
         if not match:
             raise DataError(f"{path}:{line_number}: expected 'sequenceN', found {line!r}")
+        if int(match.group(1)) in numbers:
+            raise DataError(f"{path}:{line_number}: {line} is listed twice")
         numbers.append(int(match.group(1)))
+    return numbers
+
+
+def read_split(scene_dir: str | os.PathLike, split: str) -> list[int]:
+    """Sequence numbers listed in a scene's TrainSplit.txt or TestSplit.txt.
+
+    Parameters
+    ----------
+    scene_dir : str or os.PathLike
+        The scene folder holding the split files.
+    split : {"train", "test"}
+        Which split.
+
+    Returns
+    -------
+    list of int
+        Sequence numbers in file order.
+
+    Raises
+    ------
+    DataError
+        Naming the file: missing, a line that is not ``sequenceN``, a sequence listed twice, or
+        a sequence that the other split lists too (train and test must not share frames).
+    """
+    if split not in SPLIT_FILES:
+        raise ValueError(f"split must be one of {sorted(SPLIT_FILES)}, got {split!r}")
+    path = Path(scene_dir) / SPLIT_FILES[split]
+    numbers = _parse_split(path)
+    (other,) = (Path(scene_dir) / name for key, name in SPLIT_FILES.items() if key != split)
+    if other.is_file():
+        shared = sorted(set(numbers) & set(_parse_split(other)))
+        if shared:
+            raise DataError(f"{path}: sequence(s) {shared} are listed in {other.name} too; "
+                            "a sequence belongs to one split")  # fmt: skip
     return numbers
 
 
@@ -173,29 +206,69 @@ def load_split(root: str | os.PathLike, scene: str, split: str) -> list[Sequence
 def check_data(root: str | os.PathLike, progress: bool = False, workers: int = 4) -> dict:
     """Validate every scene under ``root`` and count its sequences and frames per split.
 
-    Reads every pose and decodes every colour image. Returns
-    ``{"scenes": {scene: {"train": {"sequences": N, "frames": N}, "test": {...}}}}``;
-    raises :class:`DataError` (naming the file) on the first problem.
+    Reads every pose and decodes every colour image. All frames of a scene must share one
+    size; on a stand-in, ``standin.json`` must record a finished render, and the frame counts
+    and sizes must be the ones it records (so stale frames of another render are caught).
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A 7-Scenes-layout root (real or stand-in).
+    progress : bool
+        Show a progress bar per scene and split.
+    workers : int
+        Threads decoding images.
+
+    Returns
+    -------
+    dict
+        ``{"scenes": {scene: {"train": {"sequences": N, "frames": N}, "test": {...}}}}``.
+
+    Raises
+    ------
+    DataError
+        Naming the file, on the first problem.
     """
+    from .synth import STANDIN_MANIFEST, manifest_expectations
+
+    manifest = Path(root) / STANDIN_MANIFEST
+    try:
+        promised = manifest_expectations(root)
+    except ValueError as error:
+        raise DataError(str(error)) from None
     summary: dict[str, dict] = {}
     for scene in list_scenes(root):
         counts = {}
+        first = None  # (where the scene's frame size comes from, (height, width))
+        if promised is not None:
+            if scene not in promised:
+                raise DataError(f"{Path(root) / scene}: scene not made by the render that "
+                                f"{manifest} records")  # fmt: skip
+            first = (manifest, promised[scene][1:])
         for split in SPLIT_FILES:
             sequences = load_split(root, scene, split)
             counts[split] = {"sequences": len(sequences), "frames": sum(map(len, sequences))}
-            frames = [(seq, i) for seq in sequences for i in seq.frame_ids]
+            frames = [seq.path(i) for seq in sequences for i in seq.frame_ids]
             for sequence in sequences:
                 sequence.poses()
+                if promised is not None and len(sequence) != promised[scene][0]:
+                    raise DataError(f"{sequence.folder}: {len(sequence)} frames, but "
+                                    f"{manifest} promises "
+                                    f"{promised[scene][0]}")  # fmt: skip
             with ThreadPoolExecutor(workers) as pool:  # OpenCV decodes without the GIL
-                images = pool.map(lambda item: read_image(item[0].path(item[1])), frames)
-                for _ in tqdm(
+                images = pool.map(lambda path: (path, read_image(path).shape), frames)
+                for path, shape in tqdm(
                     images,
                     total=len(frames),
                     desc=f"{scene}/{split}",
                     disable=not progress,
                     leave=False,
                 ):
-                    pass
+                    first = first or (path, shape[:2])
+                    if shape[:2] != first[1]:
+                        height, width = first[1]
+                        raise DataError(f"{path}: {shape[1]}x{shape[0]} frame in a scene of "
+                                        f"{width}x{height} frames ({first[0]})")  # fmt: skip
         if counts["train"]["frames"] + counts["test"]["frames"] == 0:
             raise DataError(f"{Path(root) / scene}: scene has no frames in its splits")
         summary[scene] = counts
