@@ -49,12 +49,16 @@ def _check_data(args: argparse.Namespace) -> int:
 
 
 def _run_notebooks(args: argparse.Namespace) -> int:
-    from .runner import run_notebooks
+    from .runner import NotebookError, run_notebooks
 
     overrides = {"data_root": args.data_root, "results_dir": args.results_dir,
                  "figures_dir": args.figures_dir, "device": args.device}  # fmt: skip
     parameters = {key: value for key, value in overrides.items() if value is not None}
-    run_notebooks(quick=args.quick, names=args.notebooks or None, parameters=parameters)
+    try:
+        run_notebooks(quick=args.quick, names=args.notebooks or None, parameters=parameters)
+    except NotebookError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 1
     return 0
 
 

@@ -112,6 +112,10 @@ EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
 }
 
 
+class NotebookError(RuntimeError):
+    """A notebook failed; the message names it, the failing cell and the exception."""
+
+
 def notebook_names() -> list[str]:
     """Names (without .ipynb) of the notebooks in ``notebooks/``, in run order."""
     return sorted(path.stem for path in NOTEBOOKS_DIR.glob("[0-9][0-9]_*.ipynb"))
@@ -150,6 +154,8 @@ def run_notebooks(
 
     Executed copies go to ``output_dir`` (default ``build/`` or ``build/quick``); the time per
     notebook is printed and written to ``timings.csv`` there. Returns (name, seconds) rows.
+    A failing cell raises :class:`NotebookError` naming the notebook, the cell and the
+    exception (the executed copy keeps the whole traceback).
     """
     import papermill
 
@@ -166,16 +172,25 @@ def run_notebooks(
     timings = []
     for name in names:
         start = time.perf_counter()
-        papermill.execute_notebook(
-            str(NOTEBOOKS_DIR / f"{name}.ipynb"),
-            str(output_dir / f"{name}.ipynb"),
-            parameters=params,
-            kernel_name="python3",
-            cwd=str(NOTEBOOKS_DIR),
-            execution_timeout=cell_timeout_s,
-            log_output=log_output,
-            progress_bar=False,
-        )
+        executed = output_dir / f"{name}.ipynb"
+        try:
+            papermill.execute_notebook(
+                str(NOTEBOOKS_DIR / f"{name}.ipynb"),
+                str(executed),
+                parameters=params,
+                kernel_name="python3",
+                cwd=str(NOTEBOOKS_DIR),
+                execution_timeout=cell_timeout_s,
+                log_output=log_output,
+                progress_bar=False,
+            )
+        except papermill.PapermillExecutionError as error:
+            first_line = (error.source or "").strip().splitlines()[:1] or [""]
+            raise NotebookError(
+                f"{NOTEBOOKS_DIR / name}.ipynb: cell In [{error.exec_count}] "
+                f"({first_line[0][:60]!r}...) failed with {error.ename}: {error.evalue} "
+                f"(full traceback in {executed}, cell {error.cell_index})"
+            ) from None
         seconds = time.perf_counter() - start
         timings.append((name, round(seconds, 1)))
         print(f"{name}: {seconds:.1f} s", flush=True)

@@ -405,16 +405,16 @@ def _render_job(job: tuple) -> int:
     return render_sequence(*job)
 
 
-def _watch_parent(interval_s: float = 0.2) -> None:
-    """Pool initializer: end this worker as soon as the process that started it is gone.
+def _watch_parent(parent_pid: int, interval_s: float = 0.2) -> None:
+    """Pool initializer: end this worker as soon as process ``parent_pid`` is gone.
 
-    A pool's workers outlive a parent killed with SIGKILL (no clean-up runs) and would go on
-    writing frames; a daemon thread polls the parent PID and exits the worker when it changes
-    (the orphan is re-parented)."""
-    parent = os.getppid()
+    A pool's workers outlive a parent killed with SIGKILL (no clean-up runs in it) and would go
+    on writing frames; a daemon thread polls the parent's PID and exits the worker when it no
+    longer exists. (With forkserver the workers' own parent is the fork server, which lives as
+    long as they do, so ``os.getppid`` cannot tell.)"""
 
     def watch() -> None:
-        while os.getppid() == parent:
+        while _process_alive(parent_pid):
             time.sleep(interval_s)
         os._exit(1)
 
@@ -656,6 +656,6 @@ def _render(
         else:
             method = "forkserver" if sys.platform.startswith("linux") else "spawn"
             context = multiprocessing.get_context(method)
-            with context.Pool(workers, initializer=_watch_parent) as pool:
+            with context.Pool(workers, _watch_parent, (os.getpid(),)) as pool:
                 for frames in pool.imap_unordered(_render_job, jobs):
                     bar.update(frames)
