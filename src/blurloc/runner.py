@@ -185,10 +185,11 @@ def run_notebooks(
                 progress_bar=False,
             )
         except papermill.PapermillExecutionError as error:
-            first_line = (error.source or "").strip().splitlines()[:1] or [""]
+            line = ((error.source or "").strip().splitlines() or [""])[0]
+            line = line if len(line) <= 60 else f"{line[:57]}..."
             raise NotebookError(
                 f"{NOTEBOOKS_DIR / name}.ipynb: cell In [{error.exec_count}] "
-                f"({first_line[0][:60]!r}...) failed with {error.ename}: {error.evalue} "
+                f"({line!r}) failed with {error.ename}: {error.evalue} "
                 f"(full traceback in {executed}, cell {error.cell_index})"
             ) from None
         seconds = time.perf_counter() - start
