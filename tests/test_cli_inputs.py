@@ -198,6 +198,7 @@ def test_deblur_keeps_16_bit_depth_and_alpha(
     assert main(["deblur", str(deep), str(tmp_path / "o.jpg"), *length]) == 0
     err = capsys.readouterr().err
     assert "warning" in err and "o.jpg" in err and str(deep) in err
+    assert "16-bit depth and alpha" in err
     assert cv2.imread(str(tmp_path / "o.jpg"), cv2.IMREAD_UNCHANGED).dtype == np.uint8
 
 
@@ -341,6 +342,10 @@ def test_workers_stop_when_the_parent_is_killed(tmp_path: Path) -> None:
             if process is not None and process.is_running():
                 process.kill()
     assert json.loads((out / "standin.json").read_text()) == {"incomplete": True}
+    assert (out / LOCK_FILE).read_text().strip() == str(parent.pid)  # left by the dead render
+    synthesize(out, ["heads"], SynthConfig.quick(**TINY), workers=1, progress=False)
+    assert check_data(out)["scenes"]["heads"]["test"]["frames"] == 2
+    assert not (out / LOCK_FILE).exists()
 
 
 # ---- split files --------------------------------------------------------------------------

@@ -143,9 +143,11 @@ def _write_deblur_output(path: Path, restored, alpha, top: int, source: Path) ->
     from .files import atomic_path
 
     deep = path.suffix.lower() in _DEEP_SUFFIXES
-    if not deep and (top > 255 or alpha is not None):
-        print(f"warning: {path}: {path.suffix} stores 8-bit colour only; the 16-bit depth or "
-              f"alpha of {source} is not kept (write .png or .tif to keep them)",
+    lost = [name for name, kept in (("16-bit depth", top == 255), ("alpha", alpha is None))
+            if not kept]  # fmt: skip
+    if lost and not deep:
+        print(f"warning: {path}: {path.suffix} stores 8-bit colour only; the {' and '.join(lost)}"
+              f" of {source} is not kept (write .png or .tif to keep it)",
               file=sys.stderr)  # fmt: skip
     if top > 255:
         scale = 65535.0 if deep else 255.0
