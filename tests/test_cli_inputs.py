@@ -21,7 +21,7 @@ import pytest
 import blurloc.runner
 from blurloc.blur import blur_image, motion_kernel
 from blurloc.cli import main
-from blurloc.data import DataError, check_data, read_split
+from blurloc.data import DataError, check_data, load_split, read_split
 from blurloc.data.synth import LOCK_FILE, SynthConfig, synthesize
 from blurloc.files import atomic_path, check_output_not_input
 
@@ -274,7 +274,9 @@ def test_check_data_rejects_a_mixed_or_unfinished_stand_in(
     for kind in ("color.png", "pose.txt"):
         shutil.copy(sequence / f"frame-000000.{kind}", sequence / f"frame-000002.{kind}")
     status, err = run(["check-data", str(tiny_root)], capsys)
-    assert status == 1 and str(sequence) in err and "promises 2" in err and "standin.json" in err
+    assert status == 1 and str(sequence) in err and "records 2" in err and "standin.json" in err
+    with pytest.raises(DataError, match="records 2"):
+        load_split(tiny_root, "heads", "train")
     for kind in ("color.png", "pose.txt"):
         (sequence / f"frame-000002.{kind}").unlink()
 
@@ -292,6 +294,8 @@ def test_check_data_rejects_a_mixed_or_unfinished_stand_in(
     manifest.write_text('{"incomplete": true}')
     status, err = run(["check-data", str(tiny_root)], capsys)
     assert status == 1 and str(manifest) in err and "did not finish" in err
+    with pytest.raises(DataError, match="did not finish"):  # what the trainers read
+        load_split(tiny_root, "heads", "train")
     manifest.write_text(original)
 
 
@@ -317,7 +321,7 @@ def test_a_held_lock_is_refused_and_a_stale_one_taken_over(
 def test_workers_stop_when_the_parent_is_killed(tmp_path: Path) -> None:
     """kill -9 of ``blurloc synth`` ends its worker processes within a second or two."""
     out = tmp_path / "standin"
-    argv = ["synth", "--out", str(out), "--quick", "--scenes", "heads", "--frames", "2000",
+    argv = ["synth", "--out", str(out), "--quick", "--scenes", "heads", "--frames", "300",
             "--width", "16", "--height", "12", "--workers", "2", "--quiet"]  # fmt: skip
     code = f"from blurloc.cli import main; main({argv!r})"
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}

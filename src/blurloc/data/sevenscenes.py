@@ -195,12 +195,62 @@ def list_scenes(root: str | os.PathLike) -> list[str]:
     return scenes
 
 
+def _promised(root: str | os.PathLike) -> tuple[Path, dict[str, tuple[int, int, int]]] | None:
+    """A stand-in's manifest and, per scene, the (frames per sequence, height, width) it
+    records; None for a root that is not a stand-in. DataError names a bad manifest."""
+    from .synth import STANDIN_MANIFEST, manifest_expectations
+
+    try:
+        promised = manifest_expectations(root)
+    except ValueError as error:
+        raise DataError(str(error)) from None
+    return None if promised is None else (Path(root) / STANDIN_MANIFEST, promised)
+
+
+def _check_promise(sequence: SequenceFrames, promised: tuple[Path, dict] | None) -> None:
+    """DataError when a stand-in sequence holds other frames than its manifest records."""
+    if promised is None:
+        return
+    manifest, scenes = promised
+    if sequence.scene not in scenes:
+        raise DataError(f"{sequence.folder.parent}: scene not made by the render that "
+                        f"{manifest} records")  # fmt: skip
+    if len(sequence) != scenes[sequence.scene][0]:
+        raise DataError(f"{sequence.folder}: {len(sequence)} frames, but {manifest} records "
+                        f"{scenes[sequence.scene][0]}")  # fmt: skip
+
+
 def load_split(root: str | os.PathLike, scene: str, split: str) -> list[SequenceFrames]:
-    """The sequences of one split of one scene, in split-file order."""
+    """The sequences of one split of one scene, in split-file order.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A 7-Scenes-layout root (real or stand-in).
+    scene : str
+        Scene folder name, e.g. ``"chess"``.
+    split : {"train", "test"}
+        Which split.
+
+    Returns
+    -------
+    list of SequenceFrames
+        One per sequence the split file lists.
+
+    Raises
+    ------
+    DataError
+        Naming the file: see :func:`read_split` and :func:`list_sequence`; on a stand-in also
+        an unfinished render or a frame count other than ``standin.json`` records.
+    """
     scene_dir = Path(root) / scene
     if not scene_dir.is_dir():
         raise DataError(f"{scene_dir}: scene folder is missing")
-    return [list_sequence(scene_dir, n) for n in read_split(scene_dir, split)]
+    promised = _promised(root)
+    sequences = [list_sequence(scene_dir, n) for n in read_split(scene_dir, split)]
+    for sequence in sequences:
+        _check_promise(sequence, promised)
+    return sequences
 
 
 def check_data(root: str | os.PathLike, progress: bool = False, workers: int = 4) -> dict:
@@ -229,32 +279,19 @@ def check_data(root: str | os.PathLike, progress: bool = False, workers: int = 4
     DataError
         Naming the file, on the first problem.
     """
-    from .synth import STANDIN_MANIFEST, manifest_expectations
-
-    manifest = Path(root) / STANDIN_MANIFEST
-    try:
-        promised = manifest_expectations(root)
-    except ValueError as error:
-        raise DataError(str(error)) from None
+    promised = _promised(root)
     summary: dict[str, dict] = {}
     for scene in list_scenes(root):
         counts = {}
         first = None  # (where the scene's frame size comes from, (height, width))
-        if promised is not None:
-            if scene not in promised:
-                raise DataError(f"{Path(root) / scene}: scene not made by the render that "
-                                f"{manifest} records")  # fmt: skip
-            first = (manifest, promised[scene][1:])
+        if promised is not None and scene in promised[1]:
+            first = (promised[0], promised[1][scene][1:])
         for split in SPLIT_FILES:
             sequences = load_split(root, scene, split)
             counts[split] = {"sequences": len(sequences), "frames": sum(map(len, sequences))}
             frames = [seq.path(i) for seq in sequences for i in seq.frame_ids]
             for sequence in sequences:
                 sequence.poses()
-                if promised is not None and len(sequence) != promised[scene][0]:
-                    raise DataError(f"{sequence.folder}: {len(sequence)} frames, but "
-                                    f"{manifest} promises "
-                                    f"{promised[scene][0]}")  # fmt: skip
             with ThreadPoolExecutor(workers) as pool:  # OpenCV decodes without the GIL
                 images = pool.map(lambda path: (path, read_image(path).shape), frames)
                 for path, shape in tqdm(
