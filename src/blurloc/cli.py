@@ -108,66 +108,6 @@ def _load_kernel(path: Path):
         raise ValueError(f"{path}: {error}") from error
 
 
-#: Output suffixes that store 16-bit samples and an alpha channel (others store 8-bit colour).
-_DEEP_SUFFIXES = (".png", ".tif", ".tiff")
-
-
-def _read_deblur_input(path: Path):
-    """An image to deblur at its own bit depth: (gray or RGB pixels, alpha or None, max value).
-
-    8-bit images stay uint8; 16-bit ones become float64 on [0, 1] (the filters keep float)."""
-    import cv2
-    import numpy as np
-
-    if not path.is_file():
-        raise ValueError(f"{path}: image file is missing")
-    image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
-    if image is None:
-        raise ValueError(f"{path}: image cannot be read (damaged or not an image)")
-    channels = image.shape[2] if image.ndim == 3 else 1
-    if image.dtype not in (np.uint8, np.uint16) or channels not in (1, 3, 4):
-        raise ValueError(f"{path}: {image.dtype} image with shape {image.shape} not supported; "
-                         "use 8- or 16-bit gray, RGB or RGBA images")  # fmt: skip
-    alpha = image[..., 3] if image.ndim == 3 and image.shape[2] == 4 else None
-    pixels = image if image.ndim == 2 else image[..., 2::-1]  # BGR(A) -> RGB
-    top = np.iinfo(image.dtype).max
-    return (pixels.copy() if top == 255 else pixels / top), alpha, top
-
-
-def _write_deblur_output(path: Path, restored, alpha, top: int, source: Path) -> None:
-    """Write a restored image at the input's depth with its alpha, where the suffix allows;
-    say so on stderr when it does not."""
-    import cv2
-    import numpy as np
-
-    from .files import atomic_path
-
-    deep = path.suffix.lower() in _DEEP_SUFFIXES
-    lost = [name for name, kept in (("16-bit depth", top == 255), ("alpha", alpha is None))
-            if not kept]  # fmt: skip
-    if lost and not deep:
-        print(f"warning: {path}: {path.suffix} stores 8-bit colour only; the {' and '.join(lost)}"
-              f" of {source} is not kept (write .png or .tif to keep it)",
-              file=sys.stderr)  # fmt: skip
-    if top > 255:
-        scale = 65535.0 if deep else 255.0
-        dtype = np.uint16 if deep else np.uint8
-        restored = np.round(np.clip(restored, 0.0, 1.0) * scale).astype(dtype)
-        if alpha is not None and not deep:
-            alpha = (alpha // 257).astype(np.uint8)
-    pixels = restored if restored.ndim == 2 else restored[..., ::-1]
-    if alpha is not None and deep:
-        pixels = np.dstack([cv2.cvtColor(pixels, cv2.COLOR_GRAY2BGR) if pixels.ndim == 2
-                            else pixels, alpha])  # fmt: skip
-    with atomic_path(path) as temporary:
-        try:
-            written = cv2.imwrite(str(temporary), pixels)
-        except cv2.error:
-            written = False
-        if not written:
-            raise ValueError(f"{path}: cannot write this image")
-
-
 def _check_length(length: float, shape: tuple[int, ...], path: Path) -> None:
     """Refuse a blur length whose kernel (an odd square of about length + 4 px) would not fit
     inside the image."""
@@ -184,6 +124,7 @@ def _deblur(args: argparse.Namespace) -> int:
 
     from .blur import check_kernel, motion_kernel
     from .deconv import deblur_blind, wiener_deconvolve
+    from .files import read_image_file, write_image_file
 
     source, target = Path(args.input), Path(args.output)
     if (args.length is None) != (args.angle is None):
@@ -215,7 +156,7 @@ def _deblur(args: argparse.Namespace) -> int:
         raise ValueError(f"{source}: no such file or folder")
     kernel = _load_kernel(Path(args.kernel)) if args.kernel else None
     for path_in, path_out in pairs:
-        image, alpha, top = _read_deblur_input(path_in)
+        image, alpha = read_image_file(path_in)
         if args.length is not None:
             _check_length(args.length, image.shape, path_in)
             kernel = motion_kernel(args.length, args.angle) if kernel is None else kernel
@@ -229,7 +170,11 @@ def _deblur(args: argparse.Namespace) -> int:
                         else wiener_deconvolve(image, kernel, args.nsr))  # fmt: skip
         except ValueError as error:
             raise ValueError(f"{path_in}: {error}") from error
-        _write_deblur_output(path_out, restored, alpha, top, path_in)
+        lost = write_image_file(path_out, restored, alpha)
+        if lost:
+            print(f"warning: {path_out}: {path_out.suffix} stores 8-bit colour only; the "
+                  f"{' and '.join(lost)} of {path_in} is not kept (write .png or .tif to keep "
+                  "it)", file=sys.stderr)  # fmt: skip
         print(path_out)
     return 0
 

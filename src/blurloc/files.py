@@ -1,4 +1,5 @@
-"""Files a command writes: never over one of its inputs, and always whole (atomic rename)."""
+"""Files the commands read and write: an output never over an input, every file written whole
+(atomic rename), images kept at their own bit depth and with their alpha channel."""
 
 from __future__ import annotations
 
@@ -7,6 +8,11 @@ import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
+
+import numpy as np
+
+#: Image suffixes whose files store 16-bit samples and an alpha channel (others: 8-bit colour).
+DEEP_SUFFIXES = (".png", ".tif", ".tiff")
 
 
 def check_output_not_input(
@@ -78,3 +84,96 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
         os.replace(temporary, path)
     finally:
         temporary.unlink(missing_ok=True)
+
+
+def read_image_file(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray | None]:
+    """Read an image at its own bit depth, gray or colour, with its alpha channel.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An 8- or 16-bit gray, RGB or RGBA image file.
+
+    Returns
+    -------
+    pixels : numpy.ndarray
+        (H, W) gray or (H, W, 3) RGB; uint8 for an 8-bit file, float64 on [0, 1] for a 16-bit
+        one (the filters keep float, so no precision is lost on the way).
+    alpha : numpy.ndarray or None
+        (H, W) alpha in the file's own dtype, or None.
+
+    Raises
+    ------
+    ValueError
+        Naming the file, when it is missing, unreadable or of another pixel type.
+    """
+    import cv2  # here, so that commands which read no image start fast
+
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"{path}: image file is missing")
+    image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    if image is None:
+        raise ValueError(f"{path}: image cannot be read (damaged or not an image)")
+    channels = image.shape[2] if image.ndim == 3 else 1
+    if image.dtype not in (np.uint8, np.uint16) or channels not in (1, 3, 4):
+        raise ValueError(f"{path}: {image.dtype} image with shape {image.shape} not supported; "
+                         "use 8- or 16-bit gray, RGB or RGBA images")  # fmt: skip
+    alpha = image[..., 3].copy() if channels == 4 else None
+    pixels = image if channels == 1 else image[..., 2::-1]  # BGR(A) -> RGB
+    if image.dtype == np.uint8:
+        return pixels.copy(), alpha
+    return pixels / 65535.0, alpha
+
+
+def write_image_file(
+    path: str | os.PathLike, image: np.ndarray, alpha: np.ndarray | None = None
+) -> list[str]:
+    """Write an image atomically, as deep as ``path``'s suffix allows.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Image file; ``.png`` and ``.tif`` keep 16-bit samples and alpha, other suffixes store
+        8-bit colour.
+    image : numpy.ndarray
+        (H, W) gray or (H, W, 3) RGB: uint8 (written 8-bit) or float on [0, 1] (written 16-bit
+        where the suffix allows, else 8-bit; clipped).
+    alpha : numpy.ndarray, optional
+        (H, W) alpha, uint8 or uint16, written beside the colour where the suffix allows.
+
+    Returns
+    -------
+    list of str
+        What the suffix could not keep: "16-bit depth" and/or "alpha" (empty when nothing).
+
+    Raises
+    ------
+    ValueError
+        Naming the file, when it cannot be written.
+    """
+    import cv2  # here, so that commands which write no image start fast
+
+    path = Path(path)
+    deep = path.suffix.lower() in DEEP_SUFFIXES
+    lost = []
+    if image.dtype != np.uint8:
+        lost += [] if deep else ["16-bit depth"]
+        dtype = np.uint16 if deep else np.uint8
+        image = np.round(np.clip(image, 0.0, 1.0) * np.iinfo(dtype).max).astype(dtype)
+    pixels = image if image.ndim == 2 else image[..., ::-1]  # RGB -> BGR
+    if alpha is not None and not deep:
+        lost.append("alpha")
+    elif alpha is not None:
+        if alpha.dtype != pixels.dtype:  # one depth for all channels
+            alpha = (alpha // 257 if pixels.dtype == np.uint8 else alpha * 257).astype(pixels.dtype)
+        colour = cv2.cvtColor(pixels, cv2.COLOR_GRAY2BGR) if pixels.ndim == 2 else pixels
+        pixels = np.dstack([colour, alpha])
+    with atomic_path(path) as temporary:
+        try:
+            written = cv2.imwrite(str(temporary), pixels)
+        except cv2.error:
+            written = False
+        if not written:
+            raise ValueError(f"{path}: cannot write this image")
+    return lost
