@@ -15,9 +15,7 @@ import numpy as np
 DEEP_SUFFIXES = (".png", ".tif", ".tiff")
 
 
-def check_output_not_input(
-    output: str | os.PathLike, *inputs: str | os.PathLike | None
-) -> None:
+def check_output_not_input(output: str | os.PathLike, *inputs: str | os.PathLike | None) -> None:
     """Refuse an output path that is one of the inputs or lies inside an input folder.
 
     Paths are compared after resolving symbolic links and ``..``; an existing output is also

@@ -123,8 +123,10 @@ class SynthConfig:
             if not (np.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
         for scene, counts in self.sequence_counts.items():
-            if scene not in SCENE_NAMES or len(counts) != 2 or not all(
-                _is_int(n) and n >= 1 for n in counts
+            if (
+                scene not in SCENE_NAMES
+                or len(counts) != 2
+                or not all(_is_int(n) and n >= 1 for n in counts)
             ):
                 raise ValueError(f"sequence_counts[{scene!r}] must be (train, test) counts >= 1 "
                                  f"of one of {', '.join(SCENE_NAMES)}, got {counts!r}")  # fmt: skip
@@ -634,7 +636,11 @@ def _up_to_date(manifest_path: Path, manifest: dict) -> bool:
 
 
 def _render(
-    root: Path, scenes: list[str], config: SynthConfig, seed: int, workers: int | None,
+    root: Path,
+    scenes: list[str],
+    config: SynthConfig,
+    seed: int,
+    workers: int | None,
     progress: bool,
 ) -> None:
     """Write the split files and render every sequence of ``scenes``, long jobs first."""
