@@ -206,29 +206,29 @@ def test_deblur_keeps_16_bit_depth_and_alpha(
 
 
 @pytest.mark.parametrize(
-    ("argv", "option"),
+    "argv",
     [
-        (["--frames", "1"], "--frames"),
-        (["--width", "4"], "--width"),
-        (["--height", "100000"], "--height"),
-        (["--blur-strength", "-1"], "--blur-strength"),
-        (["--blur-strength", "nan"], "--blur-strength"),
-        (["--blur-strength", "inf"], "--blur-strength"),
-        (["--blur-strength", "1000"], "--blur-strength"),
-        (["--noise", "-1"], "--noise"),
-        (["--noise", "nan"], "--noise"),
-        (["--seed", "-1"], "--seed"),
-        (["--workers", "-1"], "--workers"),
-        (["--workers", "0"], "--workers"),
-        (["--scenes", "kitchen"], "--scenes"),
+        ["--frames", "1"],
+        ["--width", "4"],
+        ["--height", "100000"],
+        ["--blur-strength", "-1"],
+        ["--blur-strength", "nan"],
+        ["--blur-strength", "inf"],
+        ["--blur-strength", "1000"],
+        ["--noise", "-1"],
+        ["--noise", "nan"],
+        ["--seed", "-1"],
+        ["--workers", "-1"],
+        ["--workers", "0"],
+        ["--scenes", "kitchen"],
     ],
 )
 def test_synth_bad_settings_exit_1_before_writing(
-    tmp_path: Path, capsys: pytest.CaptureFixture, argv: list[str], option: str
+    tmp_path: Path, capsys: pytest.CaptureFixture, argv: list[str]
 ) -> None:
     out = tmp_path / "standin"
     status, err = run(["synth", "--out", str(out), "--quick", "--quiet", *argv], capsys)
-    assert status == 1 and option in err, err
+    assert status == 1 and argv[0] in err, err  # the message names the option
     assert not out.exists()
 
 

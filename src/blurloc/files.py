@@ -84,6 +84,37 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
         temporary.unlink(missing_ok=True)
 
 
+def decode_image(path: str | os.PathLike, flags: int) -> np.ndarray:
+    """Decode an image file with OpenCV, or raise a ValueError naming it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Image file.
+    flags : int
+        ``cv2.IMREAD_*`` flags.
+
+    Returns
+    -------
+    numpy.ndarray
+        The pixels as OpenCV returns them (BGR order).
+
+    Raises
+    ------
+    ValueError
+        Naming the file, when it is missing, damaged or not an image.
+    """
+    import cv2  # here, so that commands which read no image start fast
+
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"{path}: image file is missing")
+    image = cv2.imread(str(path), flags)
+    if image is None:
+        raise ValueError(f"{path}: image cannot be read (damaged or not an image)")
+    return image
+
+
 def read_image_file(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray | None]:
     """Read an image at its own bit depth, gray or colour, with its alpha channel.
 
@@ -107,12 +138,7 @@ def read_image_file(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray | N
     """
     import cv2  # here, so that commands which read no image start fast
 
-    path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"{path}: image file is missing")
-    image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
-    if image is None:
-        raise ValueError(f"{path}: image cannot be read (damaged or not an image)")
+    image = decode_image(path, cv2.IMREAD_UNCHANGED)
     channels = image.shape[2] if image.ndim == 3 else 1
     if image.dtype not in (np.uint8, np.uint16) or channels not in (1, 3, 4):
         raise ValueError(f"{path}: {image.dtype} image with shape {image.shape} not supported; "

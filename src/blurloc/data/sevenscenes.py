@@ -25,6 +25,7 @@ import torch
 from torch.utils.data import Dataset
 from tqdm.auto import tqdm
 
+from ..files import decode_image
 from ..geometry import orthonormality_error, rotation_to_quaternion
 
 SPLIT_FILES = {"train": "TrainSplit.txt", "test": "TestSplit.txt"}
@@ -63,14 +64,11 @@ def read_pose(path: str | os.PathLike) -> np.ndarray:
 
 
 def read_image(path: str | os.PathLike) -> np.ndarray:
-    """Read a colour image as RGB uint8 (H, W, 3)."""
-    path = Path(path)
-    if not path.is_file():
-        raise DataError(f"{path}: image file is missing")
-    image = cv2.imread(str(path), cv2.IMREAD_COLOR)
-    if image is None:
-        raise DataError(f"{path}: image cannot be read (damaged or not an image)")
-    return image[..., ::-1].copy()
+    """Read a colour image as RGB uint8 (H, W, 3); DataError names a missing or damaged file."""
+    try:
+        return decode_image(path, cv2.IMREAD_COLOR)[..., ::-1].copy()
+    except ValueError as error:
+        raise DataError(str(error)) from None
 
 
 def read_depth(path: str | os.PathLike) -> np.ndarray:
