@@ -152,10 +152,35 @@ def run_notebooks(
 ) -> list[tuple]:
     """Execute notebooks in order with papermill (kernel ``python3``).
 
-    Executed copies go to ``output_dir`` (default ``build/`` or ``build/quick``); the time per
-    notebook is printed and written to ``timings.csv`` there. Returns (name, seconds) rows.
-    A failing cell raises :class:`NotebookError` naming the notebook, the cell and the
-    exception (the executed copy keeps the whole traceback).
+    Parameters
+    ----------
+    quick : bool
+        Tiny sizes (as in the tests); results and figures go under ``build/quick``.
+    names : list of str, optional
+        Notebook names without ``.ipynb`` (default: all, in order).
+    parameters : dict, optional
+        Overrides of :func:`default_parameters`.
+    output_dir : str or os.PathLike, optional
+        Where the executed copies and ``timings.csv`` go (default ``build/`` or
+        ``build/quick``).
+    cell_timeout_s : int, optional
+        Seconds a cell may run (default: no limit).
+    log_output : bool
+        Echo the cells' output.
+
+    Returns
+    -------
+    list of tuple
+        (name, seconds) per notebook; the times are also printed and written to
+        ``timings.csv``.
+
+    Raises
+    ------
+    NotebookError
+        Naming the notebook, the failing cell and the exception (the executed copy keeps the
+        whole traceback).
+    ValueError
+        On an unknown notebook name.
     """
     import papermill
 
