@@ -617,7 +617,7 @@ def synthesize(
                          "refusing to render into it")  # fmt: skip
     root.mkdir(parents=True, exist_ok=True)
     with render_lock(root):
-        if not overwrite and _up_to_date(manifest_path, manifest):  # rendered while we waited
+        if not overwrite and _up_to_date(manifest_path, manifest):  # another run just finished it
             return root
         # an interrupted render stays a stand-in, marked unfinished
         manifest_path.write_text(json.dumps({"incomplete": True}))
