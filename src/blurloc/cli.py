@@ -9,6 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from .config import DEFAULT_SEED
+from .files import check_output_not_input
 from .images import IMAGE_SUFFIXES
 
 
@@ -48,12 +49,16 @@ def _check_data(args: argparse.Namespace) -> int:
 
 
 def _run_notebooks(args: argparse.Namespace) -> int:
-    from .runner import run_notebooks
+    from .runner import NotebookError, run_notebooks
 
     overrides = {"data_root": args.data_root, "results_dir": args.results_dir,
                  "figures_dir": args.figures_dir, "device": args.device}  # fmt: skip
     parameters = {key: value for key, value in overrides.items() if value is not None}
-    run_notebooks(quick=args.quick, names=args.notebooks or None, parameters=parameters)
+    try:
+        run_notebooks(quick=args.quick, names=args.notebooks or None, parameters=parameters)
+    except NotebookError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 1
     return 0
 
 
@@ -83,7 +88,14 @@ def _load_kernel(path: Path):
     if not path.is_file():
         raise ValueError(f"{path}: kernel file is missing")
     if path.suffix == ".npy":
-        kernel = np.load(path, allow_pickle=False)
+        try:
+            kernel = np.load(path, allow_pickle=False)
+        except (ValueError, EOFError, OSError) as error:
+            reason = ("it holds Python objects, not numbers" if "allow_pickle" in str(error)
+                      else error)  # fmt: skip
+            raise ValueError(f"{path}: not a numeric NumPy kernel ({reason})") from None
+        if not isinstance(kernel, np.ndarray) or kernel.dtype.kind not in "biuf":
+            raise ValueError(f"{path}: kernel must hold real numbers, found {kernel.dtype}")
     else:
         import cv2
 
@@ -96,44 +108,73 @@ def _load_kernel(path: Path):
         raise ValueError(f"{path}: {error}") from error
 
 
-def _deblur(args: argparse.Namespace) -> int:
-    import cv2
+def _check_length(length: float, shape: tuple[int, ...], path: Path) -> None:
+    """Refuse a blur length whose kernel (an odd square of about length + 4 px) would not fit
+    inside the image."""
+    short = min(shape[:2])
+    limit = 2 * ((short - 1) // 2) - 2
+    if length > limit:
+        raise ValueError(f"{path}: --length {length:g} px is too long for this "
+                         f"{shape[1]}x{shape[0]} image; at most {limit} px (the kernel must fit "
+                         "inside the image)")  # fmt: skip
 
-    from .blur import motion_kernel
-    from .data import read_image
+
+def _deblur(args: argparse.Namespace) -> int:
+    import math
+
+    from .blur import check_kernel, motion_kernel
     from .deconv import deblur_blind, wiener_deconvolve
+    from .files import read_image_file, write_image_file
 
     source, target = Path(args.input), Path(args.output)
     if (args.length is None) != (args.angle is None):
         raise ValueError("give both --length and --angle, or neither")
     if args.kernel and args.length is not None:
         raise ValueError("give --kernel or --length/--angle, not both")
-    if args.nsr is not None and args.nsr <= 0:
-        raise ValueError(f"--nsr must be > 0, got {args.nsr}")
-    kernel = None
-    if args.kernel:
-        kernel = _load_kernel(Path(args.kernel))
-    elif args.length is not None:
-        kernel = motion_kernel(args.length, args.angle)
+    if args.nsr is not None and not (math.isfinite(args.nsr) and args.nsr > 0):
+        raise ValueError(f"--nsr must be a finite number > 0, got {args.nsr}")
+    if args.length is not None and not (math.isfinite(args.length) and args.length > 0):
+        raise ValueError(f"--length must be a finite number of pixels > 0, got {args.length}")
+    if args.angle is not None and not math.isfinite(args.angle):
+        raise ValueError(f"--angle must be a finite number of degrees, got {args.angle}")
+    check_output_not_input(target, source, args.kernel)
     if source.is_dir():
+        if target.exists() and not target.is_dir():
+            raise ValueError(f"{target}: exists and is not a folder (the input is a folder)")
         pairs = [(p, target / p.name) for p in sorted(source.iterdir())
-                 if p.suffix.lower() in IMAGE_SUFFIXES]  # fmt: skip
+                 if p.suffix.lower() in IMAGE_SUFFIXES and p.is_file()]  # fmt: skip
         if not pairs:
             raise ValueError(f"{source}: no images in this folder")
-        target.mkdir(parents=True, exist_ok=True)
     elif source.is_file():
+        if target.is_dir():
+            raise ValueError(f"{target}: is a folder; give an image file as the output")
+        if target.suffix.lower() not in IMAGE_SUFFIXES:
+            raise ValueError(f"{target}: output must be an image file ending in "
+                             f"{', '.join(IMAGE_SUFFIXES)}")  # fmt: skip
         pairs = [(source, target)]
     else:
         raise ValueError(f"{source}: no such file or folder")
+    kernel = _load_kernel(Path(args.kernel)) if args.kernel else None
     for path_in, path_out in pairs:
-        image = read_image(path_in)
+        image, alpha = read_image_file(path_in)
+        if args.length is not None:
+            _check_length(args.length, image.shape, path_in)
+            kernel = motion_kernel(args.length, args.angle) if kernel is None else kernel
+        elif kernel is not None:
+            try:
+                check_kernel(kernel, image.shape)
+            except ValueError as error:
+                raise ValueError(f"{args.kernel}: {error} of {path_in}") from error
         try:
             restored = (deblur_blind(image, args.nsr) if kernel is None
                         else wiener_deconvolve(image, kernel, args.nsr))  # fmt: skip
         except ValueError as error:
             raise ValueError(f"{path_in}: {error}") from error
-        if not cv2.imwrite(str(path_out), restored[..., ::-1]):
-            raise ValueError(f"{path_out}: cannot write this image (folder or suffix?)")
+        lost = write_image_file(path_out, restored, alpha)
+        if lost:
+            print(f"warning: {path_out}: {path_out.suffix} stores 8-bit colour only; the "
+                  f"{' and '.join(lost)} of {path_in} is not kept (write .png or .tif to keep "
+                  "it)", file=sys.stderr)  # fmt: skip
         print(path_out)
     return 0
 
@@ -156,6 +197,7 @@ def _train_video_deblur(args: argparse.Namespace) -> int:
 
 
 def _deblur_video(args: argparse.Namespace) -> int:
+    check_output_not_input(args.output, args.input, args.checkpoint)
     import cv2
 
     from .train import load_video_deblur
@@ -209,6 +251,7 @@ def _input_root(data: str, condition: str) -> Path:
 
 
 def _eval_pose(args: argparse.Namespace) -> int:
+    check_output_not_input(args.out, args.model)
     import numpy as np
 
     from .data import load_split

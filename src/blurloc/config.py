@@ -5,10 +5,11 @@ from __future__ import annotations
 import csv
 import os
 import random
-import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from .files import atomic_path
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 REPO_ROOT = PACKAGE_DIR.parent.parent
@@ -70,15 +71,14 @@ def seed_everything(seed: int) -> None:
 
 
 def write_rows(rows: list[dict], path: str | os.PathLike) -> Path:
-    """Write rows as CSV, atomically: to a temporary file in the same folder, then renamed, so
-    a reader never sees half a file.
+    """Write ``rows`` as CSV, atomically (:func:`blurloc.files.atomic_path`).
 
     Parameters
     ----------
     rows : list of dict
-        Dicts with the same keys (the header, in the first row's order).
+        Rows with the same keys, in order; the keys of the first row are the header.
     path : str or os.PathLike
-        The CSV file (parent folders are created).
+        CSV file to write; a reader never sees half of it.
 
     Returns
     -------
@@ -86,11 +86,8 @@ def write_rows(rows: list[dict], path: str | os.PathLike) -> Path:
         ``path``.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile("w", dir=path.parent, suffix=".tmp", delete=False,
-                                     newline="") as handle:  # fmt: skip
+    with atomic_path(path) as temporary, open(temporary, "w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
-    os.replace(handle.name, path)
     return path

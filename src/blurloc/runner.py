@@ -112,6 +112,10 @@ EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
 }
 
 
+class NotebookError(RuntimeError):
+    """A notebook failed; the message names it, the failing cell and the exception."""
+
+
 def notebook_names() -> list[str]:
     """Names of the notebooks in run order.
 
@@ -169,22 +173,32 @@ def run_notebooks(
     Parameters
     ----------
     quick : bool
-        Small sizes (as in the tests).
+        Tiny sizes (as in the tests); results and figures go under ``build/quick``.
     names : list of str, optional
-        Notebooks to run (default: all, in order).
+        Notebook names without ``.ipynb`` (default: all, in order).
     parameters : dict, optional
         Overrides of :func:`default_parameters`.
     output_dir : str or os.PathLike, optional
-        Where executed copies and ``timings.csv`` go (default ``build/`` or ``build/quick``).
+        Where the executed copies and ``timings.csv`` go (default ``build/`` or
+        ``build/quick``).
     cell_timeout_s : int, optional
-        Time limit per cell, seconds.
+        Seconds a cell may run (default: no limit).
     log_output : bool
-        Stream the notebooks' output.
+        Echo the cells' output.
 
     Returns
     -------
     list of tuple
-        (name, seconds) per notebook run.
+        (name, seconds) per notebook; the times are also printed and written to
+        ``timings.csv``.
+
+    Raises
+    ------
+    NotebookError
+        Naming the notebook, the failing cell and the exception (the executed copy keeps the
+        whole traceback).
+    ValueError
+        On an unknown notebook name.
     """
     import papermill
 
@@ -201,16 +215,26 @@ def run_notebooks(
     timings = []
     for name in names:
         start = time.perf_counter()
-        papermill.execute_notebook(
-            str(NOTEBOOKS_DIR / f"{name}.ipynb"),
-            str(output_dir / f"{name}.ipynb"),
-            parameters=params,
-            kernel_name="python3",
-            cwd=str(NOTEBOOKS_DIR),
-            execution_timeout=cell_timeout_s,
-            log_output=log_output,
-            progress_bar=False,
-        )
+        executed = output_dir / f"{name}.ipynb"
+        try:
+            papermill.execute_notebook(
+                str(NOTEBOOKS_DIR / f"{name}.ipynb"),
+                str(executed),
+                parameters=params,
+                kernel_name="python3",
+                cwd=str(NOTEBOOKS_DIR),
+                execution_timeout=cell_timeout_s,
+                log_output=log_output,
+                progress_bar=False,
+            )
+        except papermill.PapermillExecutionError as error:
+            line = ((error.source or "").strip().splitlines() or [""])[0]
+            line = line if len(line) <= 60 else f"{line[:57]}..."
+            raise NotebookError(
+                f"{NOTEBOOKS_DIR / name}.ipynb: cell In [{error.exec_count}] "
+                f"({line!r}) failed with {error.ename}: {error.evalue} "
+                f"(full traceback in {executed}, cell {error.cell_index})"
+            ) from None
         seconds = time.perf_counter() - start
         timings.append((name, round(seconds, 1)))
         print(f"{name}: {seconds:.1f} s", flush=True)

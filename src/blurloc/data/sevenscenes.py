@@ -25,6 +25,7 @@ import torch
 from torch.utils.data import Dataset
 from tqdm.auto import tqdm
 
+from ..files import decode_image
 from ..geometry import orthonormality_error, rotation_to_quaternion
 
 SPLIT_FILES = {"train": "TrainSplit.txt", "test": "TestSplit.txt"}
@@ -63,14 +64,11 @@ def read_pose(path: str | os.PathLike) -> np.ndarray:
 
 
 def read_image(path: str | os.PathLike) -> np.ndarray:
-    """Read a colour image as RGB uint8 (H, W, 3)."""
-    path = Path(path)
-    if not path.is_file():
-        raise DataError(f"{path}: image file is missing")
-    image = cv2.imread(str(path), cv2.IMREAD_COLOR)
-    if image is None:
-        raise DataError(f"{path}: image cannot be read (damaged or not an image)")
-    return image[..., ::-1].copy()
+    """Read a colour image as RGB uint8 (H, W, 3); DataError names a missing or damaged file."""
+    try:
+        return decode_image(path, cv2.IMREAD_COLOR)[..., ::-1].copy()
+    except ValueError as error:
+        raise DataError(str(error)) from None
 
 
 def read_depth(path: str | os.PathLike) -> np.ndarray:
@@ -82,14 +80,11 @@ def read_depth(path: str | os.PathLike) -> np.ndarray:
     return depth.astype(np.float32) / 1000.0
 
 
-def read_split(scene_dir: str | os.PathLike, split: str) -> list[int]:
-    """Sequence numbers listed in a scene's TrainSplit.txt or TestSplit.txt."""
-    if split not in SPLIT_FILES:
-        raise ValueError(f"split must be one of {sorted(SPLIT_FILES)}, got {split!r}")
-    path = Path(scene_dir) / SPLIT_FILES[split]
+def _parse_split(path: Path) -> list[int]:
+    """Sequence numbers of one split file, in order; DataError on a bad or repeated line."""
     if not path.is_file():
         raise DataError(f"{path}: split file is missing")
-    numbers = []
+    numbers: list[int] = []
     for line_number, line in enumerate(path.read_text().splitlines(), start=1):
         line = line.strip()
         if not line:
@@ -97,7 +92,43 @@ def read_split(scene_dir: str | os.PathLike, split: str) -> list[int]:
         match = _SPLIT_LINE.match(line)
         if not match:
             raise DataError(f"{path}:{line_number}: expected 'sequenceN', found {line!r}")
+        if int(match.group(1)) in numbers:
+            raise DataError(f"{path}:{line_number}: {line} is listed twice")
         numbers.append(int(match.group(1)))
+    return numbers
+
+
+def read_split(scene_dir: str | os.PathLike, split: str) -> list[int]:
+    """Sequence numbers listed in a scene's TrainSplit.txt or TestSplit.txt.
+
+    Parameters
+    ----------
+    scene_dir : str or os.PathLike
+        The scene folder holding the split files.
+    split : {"train", "test"}
+        Which split.
+
+    Returns
+    -------
+    list of int
+        Sequence numbers in file order.
+
+    Raises
+    ------
+    DataError
+        Naming the file: missing, a line that is not ``sequenceN``, a sequence listed twice, or
+        a sequence that the other split lists too (train and test must not share frames).
+    """
+    if split not in SPLIT_FILES:
+        raise ValueError(f"split must be one of {sorted(SPLIT_FILES)}, got {split!r}")
+    path = Path(scene_dir) / SPLIT_FILES[split]
+    numbers = _parse_split(path)
+    (other,) = (Path(scene_dir) / name for key, name in SPLIT_FILES.items() if key != split)
+    if other.is_file():
+        shared = sorted(set(numbers) & set(_parse_split(other)))
+        if shared:
+            raise DataError(f"{path}: sequence(s) {shared} are listed in {other.name} too; "
+                            "a sequence belongs to one split")  # fmt: skip
     return numbers
 
 
@@ -162,40 +193,117 @@ def list_scenes(root: str | os.PathLike) -> list[str]:
     return scenes
 
 
+def _promised(root: str | os.PathLike) -> tuple[Path, dict[str, tuple[int, int, int]]] | None:
+    """A stand-in's manifest and, per scene, the (frames per sequence, height, width) it
+    records; None for a root that is not a stand-in. DataError names a bad manifest."""
+    from .synth import STANDIN_MANIFEST, manifest_expectations
+
+    try:
+        promised = manifest_expectations(root)
+    except ValueError as error:
+        raise DataError(str(error)) from None
+    return None if promised is None else (Path(root) / STANDIN_MANIFEST, promised)
+
+
+def _check_promise(sequence: SequenceFrames, promised: tuple[Path, dict] | None) -> None:
+    """DataError when a stand-in sequence holds other frames than its manifest records."""
+    if promised is None:
+        return
+    manifest, scenes = promised
+    if sequence.scene not in scenes:
+        raise DataError(f"{sequence.folder.parent}: scene not made by the render that "
+                        f"{manifest} records")  # fmt: skip
+    if len(sequence) != scenes[sequence.scene][0]:
+        raise DataError(f"{sequence.folder}: {len(sequence)} frames, but {manifest} records "
+                        f"{scenes[sequence.scene][0]}")  # fmt: skip
+
+
 def load_split(root: str | os.PathLike, scene: str, split: str) -> list[SequenceFrames]:
-    """The sequences of one split of one scene, in split-file order."""
+    """The sequences of one split of one scene, in split-file order.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A 7-Scenes-layout root (real or stand-in).
+    scene : str
+        Scene folder name, e.g. ``"chess"``.
+    split : {"train", "test"}
+        Which split.
+
+    Returns
+    -------
+    list of SequenceFrames
+        One per sequence the split file lists.
+
+    Raises
+    ------
+    DataError
+        Naming the file: see :func:`read_split` and :func:`list_sequence`; on a stand-in also
+        an unfinished render or a frame count other than ``standin.json`` records.
+    """
     scene_dir = Path(root) / scene
     if not scene_dir.is_dir():
         raise DataError(f"{scene_dir}: scene folder is missing")
-    return [list_sequence(scene_dir, n) for n in read_split(scene_dir, split)]
+    promised = _promised(root)
+    sequences = [list_sequence(scene_dir, n) for n in read_split(scene_dir, split)]
+    for sequence in sequences:
+        _check_promise(sequence, promised)
+    return sequences
 
 
 def check_data(root: str | os.PathLike, progress: bool = False, workers: int = 4) -> dict:
     """Validate every scene under ``root`` and count its sequences and frames per split.
 
-    Reads every pose and decodes every colour image. Returns
-    ``{"scenes": {scene: {"train": {"sequences": N, "frames": N}, "test": {...}}}}``;
-    raises :class:`DataError` (naming the file) on the first problem.
+    Reads every pose and decodes every colour image. All frames of a scene must share one
+    size; on a stand-in, ``standin.json`` must record a finished render, and the frame counts
+    and sizes must be the ones it records (so stale frames of another render are caught).
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A 7-Scenes-layout root (real or stand-in).
+    progress : bool
+        Show a progress bar per scene and split.
+    workers : int
+        Threads decoding images.
+
+    Returns
+    -------
+    dict
+        ``{"scenes": {scene: {"train": {"sequences": N, "frames": N}, "test": {...}}}}``.
+
+    Raises
+    ------
+    DataError
+        Naming the file, on the first problem.
     """
+    promised = _promised(root)
     summary: dict[str, dict] = {}
     for scene in list_scenes(root):
         counts = {}
+        first = None  # (where the scene's frame size comes from, (height, width))
+        if promised is not None and scene in promised[1]:
+            first = (promised[0], promised[1][scene][1:])
         for split in SPLIT_FILES:
             sequences = load_split(root, scene, split)
             counts[split] = {"sequences": len(sequences), "frames": sum(map(len, sequences))}
-            frames = [(seq, i) for seq in sequences for i in seq.frame_ids]
+            frames = [seq.path(i) for seq in sequences for i in seq.frame_ids]
             for sequence in sequences:
                 sequence.poses()
             with ThreadPoolExecutor(workers) as pool:  # OpenCV decodes without the GIL
-                images = pool.map(lambda item: read_image(item[0].path(item[1])), frames)
-                for _ in tqdm(
+                images = pool.map(lambda path: (path, read_image(path).shape), frames)
+                for path, shape in tqdm(
                     images,
                     total=len(frames),
                     desc=f"{scene}/{split}",
                     disable=not progress,
                     leave=False,
                 ):
-                    pass
+                    first = first or (path, shape[:2])
+                    if shape[:2] != first[1]:
+                        height, width = first[1]
+                        raise DataError(f"{path}: {shape[1]}x{shape[0]} frame in a scene of "
+                                        f"{width}x{height} frames ({first[0]})")  # fmt: skip
         if counts["train"]["frames"] + counts["test"]["frames"] == 0:
             raise DataError(f"{Path(root) / scene}: scene has no frames in its splits")
         summary[scene] = counts

@@ -23,7 +23,12 @@ import csv
 import json
 import multiprocessing
 import os
+import shutil
 import sys
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
@@ -33,6 +38,7 @@ from scipy.ndimage import gaussian_filter1d
 from scipy.spatial.transform import Rotation
 from tqdm.auto import tqdm
 
+from ..files import atomic_path
 from ..geometry import (
     backproject,
     frame_to_frame_motion,
@@ -55,6 +61,20 @@ REAL_7SCENES_MOTION = {
 FORMAT_VERSION = 4  # bump whenever rendering changes, so stale stand-ins are rendered again
 #: File that marks a folder as a rendered stand-in and records the settings and seed.
 STANDIN_MANIFEST = "standin.json"
+#: File held (created exclusively, holding the PID) while a render writes into a stand-in.
+LOCK_FILE = ".synth.lock"
+
+
+#: Image sizes accepted, px per side (the intrinsics are 7-Scenes' scaled to the size).
+MIN_SIZE, MAX_SIZE = 8, 4096
+#: Longest exposure accepted, in frame intervals (1/3 s at 30 fps). Beyond it a frame's image
+#: motion outgrows the 41 sub-exposure renders per frame (they would lie over 1 px apart), and at
+#: 30 it would leave the trajectory's 1 s margin.
+MAX_BLUR_STRENGTH = 10.0
+
+
+def _is_int(value: object) -> bool:
+    return isinstance(value, int | np.integer) and not isinstance(value, bool)
 
 
 @dataclass(frozen=True)
@@ -65,6 +85,10 @@ class SynthConfig:
     that would give about 1-2 px of blur. The default 2.2 stretches it so that blur at 160x120 is
     as strong, relative to the image, as strongly blurred real 7-Scenes frames at 640x480
     (median extent >= 3 px, 90th percentile >= 8 px), which is the regime the paper is about.
+
+    Every field is checked on construction; a ValueError names the field and its ``blurloc
+    synth`` option: width and height in [MIN_SIZE, MAX_SIZE] px, at least 2 frames per
+    sequence, ``blur_strength`` in [0, MAX_BLUR_STRENGTH], ``noise_sigma`` in [0, 1].
     """
 
     width: int = 160
@@ -81,12 +105,31 @@ class SynthConfig:
     )
 
     def __post_init__(self) -> None:
-        if self.width < 8 or self.height < 8:
-            raise ValueError(f"image size must be at least 8x8, got {self.width}x{self.height}")
-        if self.frames_per_sequence < 2:
-            raise ValueError("frames_per_sequence must be at least 2")
-        if self.blur_strength < 0 or self.noise_sigma < 0:
-            raise ValueError("blur_strength and noise_sigma must be >= 0")
+        for name, option in (("width", "--width"), ("height", "--height"),
+                             ("frames_per_sequence", "--frames")):  # fmt: skip
+            value = getattr(self, name)
+            low, high = (2, None) if name == "frames_per_sequence" else (MIN_SIZE, MAX_SIZE)
+            if not _is_int(value) or value < low or (high is not None and value > high):
+                bounds = f">= {low}" if high is None else f"in [{low}, {high}]"
+                raise ValueError(f"{name} ({option}) must be an integer {bounds}, got {value!r}")
+        for name, option, high in (("blur_strength", "--blur-strength", MAX_BLUR_STRENGTH),
+                                   ("noise_sigma", "--noise", 1.0)):  # fmt: skip
+            value = getattr(self, name)
+            if not (np.isfinite(value) and 0 <= value <= high):
+                raise ValueError(f"{name} ({option}) must be a finite number in [0, {high}], "
+                                 f"got {value!r}")  # fmt: skip
+        for name in ("max_sample_spacing_px", "fps", "step_median_m", "rotation_median_deg"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        for scene, counts in self.sequence_counts.items():
+            if (
+                scene not in SCENE_NAMES
+                or len(counts) != 2
+                or not all(_is_int(n) and n >= 1 for n in counts)
+            ):
+                raise ValueError(f"sequence_counts[{scene!r}] must be (train, test) counts >= 1 "
+                                 f"of one of {', '.join(SCENE_NAMES)}, got {counts!r}")  # fmt: skip
 
     @classmethod
     def quick(cls, **overrides) -> SynthConfig:
@@ -364,6 +407,22 @@ def _render_job(job: tuple) -> int:
     return render_sequence(*job)
 
 
+def _watch_parent(parent_pid: int, interval_s: float = 0.2) -> None:
+    """Pool initializer: end this worker as soon as process ``parent_pid`` is gone.
+
+    A pool's workers outlive a parent killed with SIGKILL (no clean-up runs in it) and would go
+    on writing frames; a daemon thread polls the parent's PID and exits the worker when it no
+    longer exists. (With forkserver the workers' own parent is the fork server, which lives as
+    long as they do, so ``os.getppid`` cannot tell.)"""
+
+    def watch() -> None:
+        while _process_alive(parent_pid):
+            time.sleep(interval_s)
+        os._exit(1)
+
+    threading.Thread(target=watch, daemon=True, name="watch-parent").start()
+
+
 def _manifest(config: SynthConfig, seed: int, scenes: list[str]) -> dict:
     settings = asdict(config)
     settings["sequence_counts"] = {k: list(v) for k, v in config.sequence_counts.items()}
@@ -372,7 +431,107 @@ def _manifest(config: SynthConfig, seed: int, scenes: list[str]) -> dict:
 
 def _foreign_dataset(root: Path) -> bool:
     """True when ``root`` holds something other than a stand-in (non-empty, no manifest)."""
-    return root.is_dir() and any(root.iterdir()) and not (root / STANDIN_MANIFEST).exists()
+    return (
+        root.is_dir()
+        and any(entry.name != LOCK_FILE for entry in root.iterdir())
+        and not (root / STANDIN_MANIFEST).exists()
+    )
+
+
+def _process_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # alive, owned by someone else
+        return True
+    return True
+
+
+@contextmanager
+def render_lock(root: Path) -> Iterator[None]:
+    """Hold ``root/.synth.lock`` (created exclusively, holding this PID) while rendering.
+
+    A lock left by a process that no longer runs is taken over.
+
+    Parameters
+    ----------
+    root : pathlib.Path
+        The stand-in folder (it exists).
+
+    Raises
+    ------
+    ValueError
+        Naming the lock file and the PID holding it, when another process renders into ``root``.
+    """
+    lock = root / LOCK_FILE
+    for _ in range(2):
+        try:
+            handle = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+        except FileExistsError:
+            text = lock.read_text().strip() if lock.exists() else ""
+            holder = int(text) if text.isdigit() else None
+            if holder is None or _process_alive(holder):
+                raise ValueError(
+                    f"{lock}: another synth (PID {holder or 'unknown'}) is rendering into "
+                    f"{root}; wait for it, or delete the lock if that process is gone"
+                ) from None
+            lock.unlink(missing_ok=True)  # its holder died: take it over
+            continue
+        with os.fdopen(handle, "w") as file:
+            file.write(f"{os.getpid()}\n")
+        break
+    else:
+        raise ValueError(f"{lock}: cannot take over the lock; try again")
+    try:
+        yield
+    finally:
+        lock.unlink(missing_ok=True)
+
+
+def _clear_scenes(root: Path) -> None:
+    """Remove the scene folders a stand-in holds (and only those), so a render with other
+    settings leaves no stale frames beside the new ones."""
+    for name in SCENE_NAMES:
+        if (root / name).is_dir():
+            shutil.rmtree(root / name)
+
+
+def manifest_expectations(root: str | os.PathLike) -> dict[str, tuple[int, int, int]] | None:
+    """What ``root/standin.json`` promises: per scene, frames per sequence, height and width.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A 7-Scenes-layout root.
+
+    Returns
+    -------
+    dict or None
+        ``{scene: (frames, height_px, width_px)}``; None when ``root`` has no manifest (not a
+        stand-in, e.g. the real 7-Scenes).
+
+    Raises
+    ------
+    ValueError
+        Naming the manifest, when it is unreadable or marks an unfinished render.
+    """
+    path = Path(root) / STANDIN_MANIFEST
+    if not path.is_file():
+        return None
+    try:
+        manifest = json.loads(path.read_text())
+        if manifest.get("incomplete"):
+            raise ValueError("the render that made this stand-in did not finish; run "
+                             "blurloc synth again")  # fmt: skip
+        settings = manifest["config"]
+        config = SynthConfig(width=settings["width"], height=settings["height"],
+                             frames_per_sequence=settings["frames_per_sequence"])  # fmt: skip
+        return {scene: (config.frames_for(scene), config.height, config.width)
+                for scene in manifest["scenes"]}  # fmt: skip
+    except (ValueError, KeyError, TypeError, AttributeError) as error:
+        detail = f"lacks {error}" if isinstance(error, KeyError) else error
+        raise ValueError(f"{path}: not a usable stand-in manifest ({detail})") from None
 
 
 def prepare_data_root(
@@ -401,25 +560,90 @@ def synthesize(
     """Render the stand-in into ``root`` in the 7-Scenes layout and return ``root``.
 
     Idempotent: if ``root/standin.json`` records the same settings, nothing is rendered again.
-    The same seed gives byte-identical files, whatever the number of workers.
+    Otherwise the scene folders of the earlier stand-in are removed first, so frames of other
+    settings never stay beside the new ones; an interrupted render (its manifest says
+    ``"incomplete": true``) is rendered again in full. The same seed gives byte-identical
+    files, whatever the number of workers. One render at a time holds ``root/.synth.lock``;
+    workers stop when the parent process dies.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        Folder to write: missing, empty, or an earlier stand-in (with ``standin.json``). A
+        folder holding anything else is never written into.
+    scenes : list of str, optional
+        Scenes to render (default: all of SCENE_NAMES).
+    config : SynthConfig, optional
+        Settings (default: ``SynthConfig()``).
+    seed : int
+        Non-negative seed of every trajectory and of the sensor noise.
+    workers : int, optional
+        Processes (>= 1; default: one per core, at most one per sequence).
+    progress : bool
+        Show a progress bar of frames.
+    overwrite : bool
+        Render even when the manifest records the same settings.
+
+    Returns
+    -------
+    pathlib.Path
+        ``root``.
+
+    Raises
+    ------
+    ValueError
+        On a bad argument (naming it and its ``blurloc synth`` option), a foreign ``root``, or a
+        render already running into ``root``; all before anything is written.
     """
     root = Path(root)
     config = config or SynthConfig()
     scenes = list(scenes or SCENE_NAMES)
     unknown = sorted(set(scenes) - set(SCENE_NAMES))
     if unknown:
-        raise ValueError(f"unknown scene(s) {unknown}; choose from {', '.join(SCENE_NAMES)}")
+        raise ValueError(f"unknown scene(s) {unknown} (--scenes); choose from "
+                         f"{', '.join(SCENE_NAMES)}")  # fmt: skip
+    if not _is_int(seed) or seed < 0:
+        raise ValueError(f"seed (--seed) must be an integer >= 0, got {seed!r}")
+    if workers is not None and (not _is_int(workers) or workers < 1):
+        raise ValueError(f"workers (--workers) must be an integer >= 1, got {workers!r}")
+    if root.exists() and not root.is_dir():
+        raise ValueError(f"{root}: exists and is not a folder")
     manifest = _manifest(config, seed, scenes)
     manifest_path = root / STANDIN_MANIFEST
-    if not overwrite and manifest_path.exists():
-        if json.loads(manifest_path.read_text()) == manifest:
-            return root
-    if not overwrite and _foreign_dataset(root):
+    if not overwrite and _up_to_date(manifest_path, manifest):
+        return root
+    if _foreign_dataset(root):
         raise ValueError(f"{root}: not empty and not a stand-in (no {STANDIN_MANIFEST}); "
                          "refusing to render into it")  # fmt: skip
-    root.mkdir(parents=True, exist_ok=True)  # an interrupted render stays a stand-in, unfinished
-    manifest_path.write_text(json.dumps({"incomplete": True}))
+    root.mkdir(parents=True, exist_ok=True)
+    with render_lock(root):
+        if not overwrite and _up_to_date(manifest_path, manifest):  # another run just finished it
+            return root
+        # an interrupted render stays a stand-in, marked unfinished
+        manifest_path.write_text(json.dumps({"incomplete": True}))
+        _clear_scenes(root)
+        _render(root, scenes, config, seed, workers, progress)
+        with atomic_path(manifest_path) as temporary:
+            temporary.write_text(json.dumps(manifest, indent=2))
+    return root
 
+
+def _up_to_date(manifest_path: Path, manifest: dict) -> bool:
+    try:
+        return json.loads(manifest_path.read_text()) == manifest
+    except (OSError, ValueError):
+        return False
+
+
+def _render(
+    root: Path,
+    scenes: list[str],
+    config: SynthConfig,
+    seed: int,
+    workers: int | None,
+    progress: bool,
+) -> None:
+    """Write the split files and render every sequence of ``scenes``, long jobs first."""
     jobs = []
     for scene in scenes:
         train, test = split_sequences(scene, config)
@@ -437,10 +661,7 @@ def synthesize(
                 bar.update(_render_job(job))
         else:
             method = "forkserver" if sys.platform.startswith("linux") else "spawn"
-            with multiprocessing.get_context(method).Pool(workers) as pool:
+            context = multiprocessing.get_context(method)
+            with context.Pool(workers, _watch_parent, (os.getpid(),)) as pool:
                 for frames in pool.imap_unordered(_render_job, jobs):
                     bar.update(frames)
-    temporary = manifest_path.with_suffix(".tmp")
-    temporary.write_text(json.dumps(manifest, indent=2))
-    temporary.replace(manifest_path)
-    return root
