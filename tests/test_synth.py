@@ -9,15 +9,18 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 from blurloc.data import check_data, load_split
 from blurloc.data.render import Light, Quad, Scene, render
-from blurloc.data.scenes import SCENE_NAMES, make_scene
+from blurloc.data.scenes import REAL_MEAN_POSE_BASELINE, SCENE_NAMES, make_scene
 from blurloc.data.synth import (
     HandheldTrajectory,
     SynthConfig,
     prepare_data_root,
     render_exposure,
+    sequence_trajectory,
+    split_sequences,
     synthesize,
 )
 from blurloc.geometry import (
@@ -172,12 +175,13 @@ def test_stored_depth_matches_the_render(quick_root: Path) -> None:
 @pytest.mark.parametrize("scene_name", SCENE_NAMES)
 def test_trajectories_move_like_7scenes(scene_name: str) -> None:
     config = SynthConfig()
+    frames = config.frames_for(scene_name)
     steps, turns = [], []
-    for sequence in range(6):
+    for sequence in range(3):
         trajectory = HandheldTrajectory(
-            make_scene(scene_name), 100 / 30, np.random.default_rng(sequence), config
+            make_scene(scene_name), frames / 30, np.random.default_rng(sequence), config
         )
-        step, turn = frame_to_frame_motion(trajectory.poses(np.arange(100) / 30))
+        step, turn = frame_to_frame_motion(trajectory.poses(np.arange(frames) / 30))
         steps.append(step)
         turns.append(turn)
     steps, turns = np.concatenate(steps), np.concatenate(turns)
@@ -186,6 +190,33 @@ def test_trajectories_move_like_7scenes(scene_name: str) -> None:
     # 95th percentile over median, real 7-Scenes: 1.7-3.6 (steps), 2.0-3.6 (rotations)
     assert 1.5 < np.percentile(steps, 95) / np.median(steps) < 4.5
     assert 1.5 < np.percentile(turns, 95) / np.median(turns) < 4.5
+
+
+@pytest.mark.parametrize("scene_name", SCENE_NAMES)
+def test_trajectories_wander_like_7scenes(scene_name: str) -> None:
+    """Predicting the mean training pose misses the default stand-in's test frames by about as
+    much as on the real scene: 0.4-1.4 m and 20-50 degrees (median), within a factor of 2 of
+    the real scene's own baseline."""
+    config = SynthConfig()
+    frames = np.arange(config.frames_for(scene_name)) / config.fps
+    train, test = split_sequences(scene_name, config)
+
+    def poses(numbers: list[int]) -> np.ndarray:
+        return np.concatenate(
+            [sequence_trajectory(scene_name, n, config)[1].poses(frames) for n in numbers]
+        )
+
+    train_poses, test_poses = poses(train), poses(test)
+    mean_rotation = Rotation.from_matrix(train_poses[:, :3, :3]).mean()
+    position = np.median(
+        np.linalg.norm(test_poses[:, :3, 3] - train_poses[:, :3, 3].mean(axis=0), axis=1)
+    )
+    rotation = np.degrees(
+        np.median((mean_rotation.inv() * Rotation.from_matrix(test_poses[:, :3, :3])).magnitude())
+    )
+    real_position, real_rotation = REAL_MEAN_POSE_BASELINE[scene_name]
+    assert 0.4 <= position <= 1.4 and 0.5 < position / real_position < 2.0
+    assert 20.0 <= rotation <= 50.0 and 0.5 < rotation / real_rotation < 2.0
 
 
 def test_same_seed_gives_identical_files(quick_root: Path, tmp_path: Path) -> None:

@@ -43,28 +43,29 @@ def intrinsics(width: int, height: int) -> np.ndarray:
 
 
 def look_at(eye: np.ndarray, target: np.ndarray, up: np.ndarray = (0.0, 0.0, 1.0)) -> np.ndarray:
-    """Camera-to-world rotation of a camera at ``eye`` looking at ``target``.
+    """Camera-to-world rotation(s) of a camera at ``eye`` looking at ``target``.
 
     Parameters
     ----------
     eye, target : numpy.ndarray
-        (3,), metres, world frame.
+        (..., 3), metres, world frame; they broadcast against each other.
     up : numpy.ndarray
         (3,), the world's up direction (z).
 
     Returns
     -------
     numpy.ndarray
-        (3, 3), columns: camera x (right), y (down), z (forward) in world coordinates.
+        (..., 3, 3), columns: camera x (right), y (down), z (forward) in world coordinates.
     """
     forward = np.asarray(target, float) - np.asarray(eye, float)
-    forward /= np.linalg.norm(forward)
-    right = np.cross(forward, np.asarray(up, float))
-    if np.linalg.norm(right) < 1e-9:
+    forward = forward / np.linalg.norm(forward, axis=-1, keepdims=True)
+    right = np.cross(forward, np.broadcast_to(np.asarray(up, float), forward.shape))
+    norm = np.linalg.norm(right, axis=-1, keepdims=True)
+    if np.any(norm < 1e-9):
         raise ValueError("viewing direction is parallel to the up vector")
-    right /= np.linalg.norm(right)
+    right = right / norm
     down = np.cross(forward, right)
-    return np.stack([right, down, forward], axis=1)
+    return np.stack([right, down, forward], axis=-1)
 
 
 def make_pose(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:

@@ -8,6 +8,8 @@ furniture made of boxes, lit by a few lamps, and has its own character: a chessb
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .render import Light, Quad, Scene
@@ -313,6 +315,59 @@ SEQUENCE_COUNTS = {
     "redkitchen": (7, 5),
     "stairs": (4, 2),
 }
+
+
+@dataclass(frozen=True)
+class CameraRegion:
+    """Where a scene's handheld camera walks and what it looks at (world frame, metres).
+
+    The camera stays inside ``center ± half_extent`` (reached through ``tanh``, so the edges
+    are rare) and looks at a point inside ``focus ± focus_half_extent``, shifted by
+    ``gaze_follow`` times the camera's own offset from ``center`` (someone walking along a
+    kitchen looks at what is in front of them). The regions are chosen so that predicting the
+    mean training pose misses by about as much as it does on the real 7-Scenes scene of the
+    same name (:data:`REAL_MEAN_POSE_BASELINE`).
+    """
+
+    center: Vec
+    half_extent: Vec
+    focus: Vec
+    focus_half_extent: Vec
+    gaze_follow: float = 0.0
+
+
+CAMERA_REGIONS = {
+    "chess": CameraRegion(
+        (2.5, 0.95, 1.3), (1.6, 0.45, 0.3), (2.5, 2.0, 0.85), (0.5, 0.4, 0.2), gaze_follow=0.4
+    ),
+    "fire": CameraRegion((2.3, 1.4, 1.3), (1.0, 0.6, 0.3), (2.25, 3.4, 1.0), (1.7, 0.3, 0.4)),
+    "heads": CameraRegion((1.35, 0.8, 1.15), (0.55, 0.35, 0.3), (1.5, 1.6, 0.9), (0.35, 0.2, 0.15)),
+    "office": CameraRegion((3.0, 1.7, 1.4), (1.3, 0.6, 0.35), (3.0, 3.5, 1.0), (3.0, 0.8, 0.5)),
+    "pumpkin": CameraRegion((2.0, 1.5, 1.3), (1.1, 0.6, 0.3), (2.0, 3.4, 1.0), (1.6, 0.3, 0.4)),
+    "redkitchen": CameraRegion(
+        (3.2, 1.2, 1.45), (2.0, 0.35, 0.3), (3.2, 2.6, 1.0), (1.6, 0.2, 0.3), gaze_follow=0.5
+    ),
+    "stairs": CameraRegion((1.2, 0.9, 1.4), (0.55, 0.4, 0.4), (1.2, 3.2, 1.3), (1.0, 1.0, 1.2)),
+}
+
+#: Median error (metres, degrees) of predicting the mean training pose for every test frame,
+#: computed from the published poses of the real 7-Scenes (all 43,000 frames).
+REAL_MEAN_POSE_BASELINE = {
+    "chess": (0.82, 23.0),
+    "fire": (0.77, 35.1),
+    "heads": (0.45, 22.7),
+    "office": (0.92, 48.7),
+    "pumpkin": (0.78, 34.2),
+    "redkitchen": (1.35, 35.2),
+    "stairs": (0.52, 25.9),
+}
+
+
+def camera_region(name: str) -> CameraRegion:
+    """The walking and gaze region of the stand-in scene called ``name``."""
+    if name not in CAMERA_REGIONS:
+        raise ValueError(f"unknown scene {name!r}; choose from {', '.join(SCENE_NAMES)}")
+    return CAMERA_REGIONS[name]
 
 
 def make_scene(name: str) -> Scene:
