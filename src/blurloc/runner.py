@@ -32,6 +32,8 @@ EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
         "standin_blur_histogram.pdf",
         "standin_motion_stats.md",
         "standin_motion_stats.csv",
+        "standin_mean_pose_baseline.md",
+        "standin_mean_pose_baseline.csv",
     ),
     "01_blur_model_and_spectrum": (
         "blur_kernels.png",

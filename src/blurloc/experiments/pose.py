@@ -12,7 +12,8 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 from tqdm.auto import tqdm
 
-from ..data.sevenscenes import load_split
+from ..data.scenes import REAL_MEAN_POSE_BASELINE
+from ..data.sevenscenes import list_scenes, load_split
 from ..metrics import combined_errors, orientation_errors_deg, pose_summary, position_errors
 from ..poses import PosePair, to_quaternions
 from ..train import PoseTrainConfig, load_pose_model, predict_poses, train_pose
@@ -139,6 +140,33 @@ def mean_pose_baseline(root: str | os.PathLike, scene: str) -> dict:
                     np.tile(train[:, :3, 3].mean(axis=0), (len(test), 1)),
                     np.tile(mean_q, (len(test), 1)))  # fmt: skip
     return pose_summary(pair)
+
+
+def baseline_beside_real(root: str | os.PathLike) -> list[dict]:
+    """The mean-pose baseline of every scene under ``root`` beside the real 7-Scenes one.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        The 7-Scenes-layout root (stand-in or real).
+
+    Returns
+    -------
+    list of dict
+        Per scene: ``position_m`` and ``orientation_deg`` (median errors of predicting the mean
+        training pose, :func:`mean_pose_baseline`) and ``real_position_m`` /
+        ``real_orientation_deg`` (the same measure on the published 7-Scenes poses,
+        :data:`blurloc.data.scenes.REAL_MEAN_POSE_BASELINE`; empty for other scene names).
+    """
+    rows = []
+    for scene in list_scenes(root):
+        summary = mean_pose_baseline(root, scene)
+        real = REAL_MEAN_POSE_BASELINE.get(scene, ("", ""))
+        rows.append({"scene": scene,
+                     "position_m": round(summary["position_m"]["median"], 3),
+                     "orientation_deg": round(summary["orientation_deg"]["median"], 1),
+                     "real_position_m": real[0], "real_orientation_deg": real[1]})  # fmt: skip
+    return rows
 
 
 def predict_test_frames(model_path: str | os.PathLike, root: str | os.PathLike, scene: str) -> dict:
