@@ -1,10 +1,13 @@
-"""A small ray caster for scenes of textured rectangles, in linear light.
+"""A small renderer for scenes of textured rectangles, in linear light.
 
 Scenes are made of rectangles (quads) carrying photographs bundled with scikit-image as
-textures. Each pixel's ray is intersected with every quad (vectorised in NumPy); the nearest hit
-is shaded with a few point lights (Lambert, inverse-square falloff) and textured with mip-mapped
-bilinear lookups, so that distant surfaces do not alias. Rays are ``K^-1 (u, v, 1)``, so the ray
-parameter of a hit is its z-depth.
+textures. The surface seen at each pixel is the nearest quad along the pixel's ray
+``K^-1 (u, v, 1)`` (so the ray parameter of a hit is its z-depth); it is shaded with a few point
+lights (Lambert, inverse-square falloff) and textured with mip-mapped bilinear lookups, so that
+distant surfaces do not alias. :func:`render_poses` rasterises the quads for many poses at once
+(each quad's depth and texture coordinates are a homography of the pixel coordinates);
+:func:`render_reference` casts every ray at every quad, the slow and plain definition the fast
+one is tested against.
 """
 
 from __future__ import annotations
@@ -20,6 +23,8 @@ GAMMA = 2.2
 MIP_LEVELS = 5
 _MAX_TEXTURE_SIDE = 256
 _REMAP_ROW = 1024  # cv2.remap maps must stay below 32767 per side: sample in rows of this width
+_NEAR = 1e-3  # metres: nearer surfaces are not seen
+_NO_HIT = 255  # quad index of pixels that see no surface (quad indices are uint8)
 
 
 def srgb_to_linear(image: np.ndarray) -> np.ndarray:
@@ -176,13 +181,281 @@ def _sample(texture: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return out.reshape(-1, 3)[:count]
 
 
+def _albedo(
+    pyramid: tuple[np.ndarray, ...], tex_x: np.ndarray, tex_y: np.ndarray, footprint: np.ndarray
+) -> np.ndarray:
+    """Trilinear (mip-mapped bilinear) albedo (n, 3) at texel coordinates of level 0, blending
+    the two levels around ``log2(footprint)`` (texels of level 0 per pixel)."""
+    level = np.clip(np.log2(np.maximum(footprint, 1e-6)), 0, MIP_LEVELS - 1)
+    base = np.minimum(np.floor(level).astype(np.int32), MIP_LEVELS - 2)
+    fraction = (level - base)[:, None].astype(np.float32)
+    albedo = np.empty((tex_x.size, 3), np.float32)
+    low, high = int(base.min()), int(base.max())
+    for lod in range(low, high + 1):
+        sel = slice(None) if low == high else np.flatnonzero(base == lod)
+        fine = _sample(pyramid[lod], tex_x[sel] / 2**lod - 0.5, tex_y[sel] / 2**lod - 0.5)
+        coarse = _sample(
+            pyramid[lod + 1], tex_x[sel] / 2 ** (lod + 1) - 0.5, tex_y[sel] / 2 ** (lod + 1) - 0.5
+        )
+        albedo[sel] = fine + fraction[sel] * (coarse - fine)
+    return albedo
+
+
+def _shading_constants(scene: Scene) -> dict[str, np.ndarray]:
+    """Per-quad constants of the shading (computed once per scene).
+
+    With ``P = origin + a edge_u + b edge_v`` a point of a quad and ``d = L - origin`` for a
+    light at L, ``|L - P|^2 = |d|^2 - 2a (d . edge_u) - 2b (d . edge_v) + a^2 |edge_u|^2 +
+    b^2 |edge_v|^2`` (the edges are perpendicular) and ``(L - P) . normal = d . normal``.
+    """
+    arrays = scene.quad_arrays()
+    if "light_offset" not in arrays:
+        lights = np.array([lamp.position for lamp in scene.lights], float).reshape(-1, 3)
+        offset = lights[None] - arrays["origin"][:, None]  # (quads, lights, 3)
+        texel = []
+        for quad in scene.quads:
+            height, width = texture_pyramid(quad.texture)[0].shape[:2]
+            texel.append((quad.repeat[0] * width, quad.repeat[1] * height))
+        texel = np.array(texel, float)
+        arrays.update(
+            light_offset=(offset**2).sum(axis=2),
+            light_along_u=-2 * (offset * arrays["edge_u"][:, None]).sum(axis=2),
+            light_along_v=-2 * (offset * arrays["edge_v"][:, None]).sum(axis=2),
+            light_normal=(offset * arrays["normal"][:, None]).sum(axis=2),
+            light_power=np.array([lamp.power for lamp in scene.lights], float),
+            texels=texel,
+            texels_per_metre=np.sqrt(
+                texel[:, 0] / arrays["length_u"] * texel[:, 1] / arrays["length_v"]
+            ),
+        )
+    return arrays
+
+
+@cache
+def _ray_lengths(width: int, height: int, fx: float, fy: float, cx: float, cy: float):
+    """Length of each pixel's ray ``K^-1 (u, v, 1)`` (height * width,) float32."""
+    u, v = np.meshgrid((np.arange(width) - cx) / fx, (np.arange(height) - cy) / fy)
+    return np.sqrt(1.0 + u**2 + v**2).astype(np.float32).ravel()
+
+
+def _quad_boxes(corners: np.ndarray, camera: np.ndarray, width: int, height: int) -> np.ndarray:
+    """Pixel box [u0, v0, u1) x [v0, v1) of each quad over all poses, (quads, 4) int.
+
+    ``corners`` is (poses, quads, 4, 3) in camera coordinates. Each quad is clipped to the
+    near plane (its corners in front plus its edges' crossings of the plane), so a quad that
+    reaches behind the camera covers only the part of the image it can be seen in.
+    """
+    following = np.roll(corners, -1, axis=2)
+    z, z_next = corners[..., 2], following[..., 2]
+    front = z > _NEAR
+    crossing = front != (z_next > _NEAR)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fraction = (_NEAR - z) / (z_next - z)
+    crossings = corners + fraction[..., None] * (following - corners)
+    points = np.concatenate([corners, crossings], axis=2)
+    valid = np.concatenate([front, crossing], axis=2)[..., None]
+    depth = np.where(valid, np.maximum(points[..., 2:], _NEAR), 1.0)
+    pixels = points[..., :2] / depth * camera[[0, 1], [0, 1]] + camera[:2, 2]
+    low = np.where(valid, pixels, np.inf).min(axis=(0, 2))
+    high = np.where(valid, pixels, -np.inf).max(axis=(0, 2))
+    size = np.array([width, height])
+    low = np.clip(np.floor(low), 0, size)
+    high = np.clip(np.ceil(high) + 1, 0, size)
+    return np.concatenate([low, high], axis=1).astype(int)
+
+
+def _ray_dot(vectors: np.ndarray, camera: np.ndarray) -> np.ndarray:
+    """Coefficients (a, b, c) with ``ray . w = a u + b v + c`` for the pixel rays
+    ``K^-1 (u, v, 1)`` and camera-frame vectors ``w`` (..., 3); returns (..., 3)."""
+    a = vectors[..., 0] / camera[0, 0]
+    b = vectors[..., 1] / camera[1, 1]
+    return np.stack([a, b, vectors[..., 2] - a * camera[0, 2] - b * camera[1, 2]], axis=-1)
+
+
+def _affine(coefficients: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``a u + b v + c`` over the pixel grid u (w,) x v (h,) for each row of (poses, 3)."""
+    a, b, c = coefficients.astype(np.float32).T
+    return (a[:, None] * u)[:, None, :] + (b[:, None] * v + c[:, None])[:, :, None]
+
+
+def render_poses(
+    scene: Scene, poses: np.ndarray, camera: np.ndarray, width: int, height: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Render ``scene`` from several camera-to-world poses at once (rasterising its planes).
+
+    Every quad is a plane, so over the image its inverse depth and its texture coordinates
+    divided by depth are affine in the pixel coordinates: a quad's depth and (a, b)
+    coordinates at each pixel of its projected box are a ratio of affine functions (a
+    homography), evaluated for all poses in one pass, then depth-tested into a z-buffer. Only
+    the visible pixels are then shaded, once, quad by quad: Lambert point lights with
+    inverse-square falloff (in closed form over the quad's coordinates) times a mip-mapped
+    bilinear texture lookup. The images equal those of :func:`render_reference` (the same
+    surfaces, light and texture filter) up to float32 rounding.
+
+    Parameters
+    ----------
+    scene : Scene
+        What to render (at most 255 quads).
+    poses : np.ndarray
+        (poses, 4, 4) camera-to-world poses, metres.
+    camera : np.ndarray
+        (3, 3) intrinsics, pixels.
+    width, height : int
+        Image size, pixels.
+
+    Returns
+    -------
+    images : np.ndarray
+        (poses, height, width, 3) float32 linear-light RGB.
+    depths : np.ndarray
+        (poses, height, width) float32 z-depth, metres; 0 where no surface is hit.
+    """
+    arrays = _shading_constants(scene)
+    quads = len(scene.quads)
+    if quads > _NO_HIT:
+        raise ValueError(f"at most {_NO_HIT} quads can be rendered, got {quads}")
+    poses = np.asarray(poses, float).reshape(-1, 4, 4)
+    count, pixels = poses.shape[0], width * height
+    rotation, eye = poses[:, :3, :3], poses[:, :3, 3]
+
+    # Planes in each camera: ray . w for the normal and both texture axes, and the camera's
+    # offset from each quad's origin along them.
+    def in_camera(vectors: np.ndarray) -> np.ndarray:
+        return np.einsum("qj,sjk->sqk", vectors, rotation)
+
+    relative = eye[:, None] - arrays["origin"][None]  # (poses, quads, 3)
+    offset_n = (relative * arrays["normal"]).sum(axis=2)
+    offset_u = (relative * arrays["u_axis"]).sum(axis=2)
+    offset_v = (relative * arrays["v_axis"]).sum(axis=2)
+    facing = _ray_dot(in_camera(arrays["normal"]), camera)
+    numerator_u = offset_u[..., None] * facing - offset_n[..., None] * _ray_dot(
+        in_camera(arrays["u_axis"]), camera
+    )
+    numerator_v = offset_v[..., None] * facing - offset_n[..., None] * _ray_dot(
+        in_camera(arrays["v_axis"]), camera
+    )
+    corners = np.einsum("sqcj,sjk->sqck", arrays["corners"][None] - eye[:, None, None], rotation)
+    boxes = _quad_boxes(corners, camera, width, height)
+
+    zbuffer = np.full((count, height, width), np.inf, np.float32)
+    nearest = np.full((count, height, width), _NO_HIT, np.uint8)
+    coord_u = np.zeros((count, height, width), np.float32)
+    coord_v = np.zeros((count, height, width), np.float32)
+    columns, rows = np.arange(width, dtype=np.float32), np.arange(height, dtype=np.float32)
+    for index, (u0, v0, u1, v1) in enumerate(boxes):
+        if u0 >= u1 or v0 >= v1:
+            continue
+        u, v = columns[u0:u1], rows[v0:v1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inverse = 1.0 / _affine(facing[:, index], u, v)
+        depth = (-offset_n[:, index, None, None]).astype(np.float32) * inverse
+        a = _affine(numerator_u[:, index], u, v) * inverse
+        b = _affine(numerator_v[:, index], u, v) * inverse
+        window = (slice(None), slice(v0, v1), slice(u0, u1))
+        closer = (depth > _NEAR) & (depth < zbuffer[window])
+        closer &= (a >= 0) & (a <= 1) & (b >= 0) & (b <= 1)
+        np.copyto(zbuffer[window], depth, where=closer)
+        np.copyto(nearest[window], index, where=closer)
+        np.copyto(coord_u[window], a, where=closer)
+        np.copyto(coord_v[window], b, where=closer)
+
+    # Shade the visible pixels of each quad (all poses together), in order of quad.
+    nearest = nearest.ravel()
+    order = np.argsort(nearest, kind="stable")  # a radix sort: stays ordered by pose, pixel
+    bounds = np.concatenate([[0], np.cumsum(np.bincount(nearest, minlength=quads)[:quads])])
+    zbuffer, coord_u, coord_v = zbuffer.ravel(), coord_u.ravel(), coord_v.ravel()
+    ray_length = np.tile(_ray_lengths(width, height, *camera[[0, 1, 0, 1], [0, 1, 2, 2]]), count)
+    focal = np.sqrt(camera[0, 0] * camera[1, 1])
+    starts = np.arange(count + 1) * pixels
+    image = np.zeros((count * pixels, 3), np.float32)
+    for index, quad in enumerate(scene.quads):
+        visible = order[bounds[index] : bounds[index + 1]]
+        if visible.size == 0:
+            continue
+        per_pose = np.diff(np.searchsorted(visible, starts))
+        t, a, b = zbuffer[visible], coord_u[visible], coord_v[visible]
+        length = ray_length[visible]
+        # the camera's side of the plane: the lit side, and |ray . normal| = |offset_n| / t
+        side = np.repeat(offset_n[:, index].astype(np.float32), per_pose)
+        light = np.full(t.shape, scene.ambient, np.float32)
+        for lamp, power in enumerate(arrays["light_power"]):
+            toward = arrays["light_normal"][index, lamp]
+            lambert = np.where(side > 0, max(toward, 0.0), max(-toward, 0.0)).astype(np.float32)
+            distance2 = np.float32(arrays["light_offset"][index, lamp]) + a * (
+                a * np.float32(arrays["length_u"][index] ** 2)
+                + np.float32(arrays["light_along_u"][index, lamp])
+            )
+            distance2 += b * (
+                b * np.float32(arrays["length_v"][index] ** 2)
+                + np.float32(arrays["light_along_v"][index, lamp])
+            )
+            light += (np.float32(power) * lambert) / (
+                np.sqrt(distance2) * np.maximum(distance2, np.float32(0.25))
+            )
+        cosine = np.abs(side) / (t * length)
+        footprint = (t * length) * np.float32(arrays["texels_per_metre"][index] / focal)
+        footprint /= np.sqrt(np.maximum(cosine, np.float32(0.05)))
+        texels = arrays["texels"][index].astype(np.float32)
+        albedo = _albedo(texture_pyramid(quad.texture), a * texels[0], b * texels[1], footprint)
+        image[visible] = albedo * (light[:, None] * np.asarray(quad.tint, np.float32))
+
+    depth = np.where(nearest < _NO_HIT, zbuffer, np.float32(0))
+    return image.reshape(count, height, width, 3), depth.reshape(count, height, width)
+
+
 def render(
     scene: Scene, pose: np.ndarray, camera: np.ndarray, width: int, height: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Render ``scene`` from a camera-to-world ``pose``.
+    """Render ``scene`` from one camera-to-world ``pose`` (:func:`render_poses` of one pose).
 
-    Returns the linear-light RGB image (height, width, 3) float32 and the z-depth (metres,
-    0 where no surface is hit).
+    Parameters
+    ----------
+    scene : Scene
+        What to render.
+    pose : np.ndarray
+        (4, 4) camera-to-world pose, metres.
+    camera : np.ndarray
+        (3, 3) intrinsics, pixels.
+    width, height : int
+        Image size, pixels.
+
+    Returns
+    -------
+    image : np.ndarray
+        (height, width, 3) float32 linear-light RGB.
+    depth : np.ndarray
+        (height, width) float32 z-depth, metres; 0 where no surface is hit.
+    """
+    images, depths = render_poses(scene, pose[None], camera, width, height)
+    return images[0], depths[0]
+
+
+def render_reference(
+    scene: Scene, pose: np.ndarray, camera: np.ndarray, width: int, height: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Render ``scene`` by casting every pixel's ray at every quad (the reference renderer).
+
+    Slow but plain: each ray is intersected with each quad whose projected bounding box holds
+    it, and the nearest hit is shaded. :func:`render_poses` must give the same images; the
+    tests and ``benchmarks/bench_synth.py`` compare the two.
+
+    Parameters
+    ----------
+    scene : Scene
+        What to render.
+    pose : np.ndarray
+        (4, 4) camera-to-world pose, metres.
+    camera : np.ndarray
+        (3, 3) intrinsics, pixels.
+    width, height : int
+        Image size, pixels.
+
+    Returns
+    -------
+    image : np.ndarray
+        (height, width, 3) float32 linear-light RGB.
+    depth : np.ndarray
+        (height, width) z-depth, metres; 0 where no surface is hit.
     """
     arrays = scene.quad_arrays()
     rotation, eye = pose[:3, :3], pose[:3, 3]
@@ -200,7 +473,7 @@ def render(
 
     # Z-buffer over quads; each quad is intersected only with the rays inside its projected
     # bounding box (all rays when it crosses the camera plane).
-    near = 1e-3
+    near = _NEAR
     zbuffer = np.full((height, width), np.inf, np.float32)
     nearest = np.full((height, width), -1)
     hit_u = np.zeros((height, width), np.float32)
@@ -279,19 +552,7 @@ def render(
         footprint = (
             t * ray_length[mask] / focal / np.sqrt(np.maximum(cosine, 0.05)) * texels_per_metre
         )
-        level = np.clip(np.log2(np.maximum(footprint, 1e-6)), 0, MIP_LEVELS - 1)
-        base = np.minimum(np.floor(level).astype(int), MIP_LEVELS - 2)
-        fraction = (level - base)[:, None]
-        albedo = np.empty((t.size, 3), np.float32)
-        for lod in np.unique(base):
-            sel = base == lod
-            fine = _sample(pyramid[lod], tex_x[sel] / 2**lod - 0.5, tex_y[sel] / 2**lod - 0.5)
-            coarse = _sample(
-                pyramid[lod + 1],
-                tex_x[sel] / 2 ** (lod + 1) - 0.5,
-                tex_y[sel] / 2 ** (lod + 1) - 0.5,
-            )
-            albedo[sel] = (1 - fraction[sel]) * fine + fraction[sel] * coarse
+        albedo = _albedo(pyramid, tex_x, tex_y, footprint)
         image[mask] = albedo * np.asarray(quad.tint, np.float32) * light[:, None].astype(np.float32)
 
     depth_image = np.where(hit, hit_depth, 0.0).reshape(height, width)
