@@ -22,7 +22,7 @@ import skimage.data
 GAMMA = 2.2
 MIP_LEVELS = 5
 _MAX_TEXTURE_SIDE = 256
-_REMAP_ROW = 1024  # cv2.remap maps must stay below 32767 per side: sample in rows of this width
+_REMAP_CHUNK = 32_000  # cv2.remap maps must stay below 32767 per side: sample in chunks
 _NEAR = 1e-3  # metres: nearer surfaces are not seen
 _NO_HIT = 255  # quad index of pixels that see no surface (quad indices are uint8)
 
@@ -66,7 +66,11 @@ TEXTURE_NAMES = (*sorted(_PHOTOS), "checker")
 
 @cache
 def texture_pyramid(name: str) -> tuple[np.ndarray, ...]:
-    """Mip pyramid (linear-light float32 RGB, halving sizes) of a named texture."""
+    """Mip pyramid (linear-light float32 RGB, halving sizes) of a named texture.
+
+    Level 0 has at most 256 texels a side and sides that are multiples of ``2**(MIP_LEVELS-1)``,
+    so every level is exactly half the one below and all levels tile with the same period.
+    """
     if name == "checker":
         image = _checkerboard()
     elif name in _PHOTOS:
@@ -76,9 +80,10 @@ def texture_pyramid(name: str) -> tuple[np.ndarray, ...]:
     if image.ndim == 2:
         image = np.repeat(image[..., None], 3, axis=2)
     image = srgb_to_linear(image[..., :3]).astype(np.float32)
-    scale = _MAX_TEXTURE_SIDE / max(image.shape[:2])
-    if scale < 1:
-        size = (round(image.shape[1] * scale), round(image.shape[0] * scale))
+    scale = min(1.0, _MAX_TEXTURE_SIDE / max(image.shape[:2]))
+    step = 2 ** (MIP_LEVELS - 1)
+    size = tuple(max(step, round(side * scale / step) * step) for side in image.shape[1::-1])
+    if size != image.shape[1::-1]:
         image = cv2.resize(image, size, interpolation=cv2.INTER_AREA)
     levels = [np.ascontiguousarray(image)]
     for _ in range(MIP_LEVELS - 1):
@@ -169,36 +174,72 @@ class Scene:
         return np.where(inside, distance, -distance)
 
 
-def _sample(texture: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Bilinear, wrapping lookups of ``texture`` at float pixel coordinates (any count)."""
-    count = x.size
-    rows = -(-count // _REMAP_ROW)
-    map_x = np.zeros(rows * _REMAP_ROW, np.float32)
-    map_y = np.zeros(rows * _REMAP_ROW, np.float32)
-    map_x[:count], map_y[:count] = x, y
-    map_x, map_y = map_x.reshape(rows, _REMAP_ROW), map_y.reshape(rows, _REMAP_ROW)
-    out = cv2.remap(texture, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)
-    return out.reshape(-1, 3)[:count]
-
-
-def _albedo(
-    pyramid: tuple[np.ndarray, ...], tex_x: np.ndarray, tex_y: np.ndarray, footprint: np.ndarray
+def _sample(
+    texture: np.ndarray, x: np.ndarray, y: np.ndarray, border: int = cv2.BORDER_WRAP
 ) -> np.ndarray:
-    """Trilinear (mip-mapped bilinear) albedo (n, 3) at texel coordinates of level 0, blending
-    the two levels around ``log2(footprint)`` (texels of level 0 per pixel)."""
+    """Bilinear lookups (n, 3) of ``texture`` at float32 pixel coordinates (n,) (wrapping by
+    default)."""
+    x, y = np.asarray(x, np.float32), np.asarray(y, np.float32)
+    out = np.empty((x.size, 3), np.float32)
+    for first in range(0, x.size, _REMAP_CHUNK):
+        part = slice(first, first + _REMAP_CHUNK)
+        out[part] = cv2.remap(
+            texture, x[None, part], y[None, part], cv2.INTER_LINEAR, borderMode=border
+        )[0]
+    return out
+
+
+def _mip_level(footprint: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The mip level below each pixel's footprint (texels of level 0 per pixel, (n,)) and the
+    weight (n,) of the level above it in the trilinear blend."""
     level = np.clip(np.log2(np.maximum(footprint, 1e-6)), 0, MIP_LEVELS - 1)
     base = np.minimum(np.floor(level).astype(np.int32), MIP_LEVELS - 2)
-    fraction = (level - base)[:, None].astype(np.float32)
-    albedo = np.empty((tex_x.size, 3), np.float32)
+    return base, (level - base).astype(np.float32)
+
+
+_ATLAS_PAD = 2  # texels of wrapped border around each level in an atlas
+
+
+@cache
+def _mip_atlas(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A texture's mip levels side by side in one image, each with a wrapped border, with
+    the atlas column of each level's texel 0 and each level's scale from level 0."""
+    levels = texture_pyramid(name)
+    pad = _ATLAS_PAD
+    tiles = [cv2.copyMakeBorder(level, pad, pad, pad, pad, cv2.BORDER_WRAP) for level in levels]
+    widths = np.array([tile.shape[1] for tile in tiles])
+    columns = np.concatenate([[0], np.cumsum(widths)])
+    atlas = np.zeros((tiles[0].shape[0], columns[-1], 3), np.float32)
+    for tile, column in zip(tiles, columns, strict=False):
+        atlas[: tile.shape[0], column : column + tile.shape[1]] = tile
+    scales = 2.0 ** -np.arange(len(levels))
+    return atlas, (columns[:-1] + pad).astype(np.float32), scales.astype(np.float32)
+
+
+def _albedo(name: str, tex_x: np.ndarray, tex_y: np.ndarray, footprint: np.ndarray) -> np.ndarray:
+    """Trilinear (mip-mapped bilinear) albedo (n, 3) of texture ``name`` at texel coordinates
+    of level 0 (n,), for footprints (n,) of level-0 texels per pixel.
+
+    The same lookups as ``_sample`` on two wrapping levels, made in one remap per level from
+    the texture's atlas: coordinates are wrapped into level 0 (every level has the same
+    period) and scaled into each pixel's level.
+    """
+    atlas, columns, scales = _mip_atlas(name)
+    height, width = texture_pyramid(name)[0].shape[:2]
+    base, fraction = _mip_level(footprint)
+    x = tex_x - np.floor(tex_x * np.float32(1 / width)) * np.float32(width)
+    y = tex_y - np.floor(tex_y * np.float32(1 / height)) * np.float32(height)
     low, high = int(base.min()), int(base.max())
-    for lod in range(low, high + 1):
-        sel = slice(None) if low == high else np.flatnonzero(base == lod)
-        fine = _sample(pyramid[lod], tex_x[sel] / 2**lod - 0.5, tex_y[sel] / 2**lod - 0.5)
-        coarse = _sample(
-            pyramid[lod + 1], tex_x[sel] / 2 ** (lod + 1) - 0.5, tex_y[sel] / 2 ** (lod + 1) - 0.5
-        )
-        albedo[sel] = fine + fraction[sel] * (coarse - fine)
-    return albedo
+    lod = low if low == high else base
+    scale, column = scales[lod], columns[lod] - np.float32(0.5)
+    row = np.float32(_ATLAS_PAD - 0.5)
+    fine = _sample(atlas, x * scale + column, y * scale + row, cv2.BORDER_REPLICATE)
+    column += scale * np.float32(width) + np.float32(2 * _ATLAS_PAD)  # the next level's
+    scale = scale * np.float32(0.5)
+    coarse = _sample(atlas, x * scale + column, y * scale + row, cv2.BORDER_REPLICATE)
+    coarse -= fine
+    coarse *= fraction[:, None]
+    return fine + coarse
 
 
 def _shading_constants(scene: Scene) -> dict[str, np.ndarray]:
@@ -251,7 +292,7 @@ def _quad_boxes(corners: np.ndarray, camera: np.ndarray, width: int, height: int
     crossing = front != (z_next > _NEAR)
     with np.errstate(divide="ignore", invalid="ignore"):
         fraction = (_NEAR - z) / (z_next - z)
-    crossings = corners + fraction[..., None] * (following - corners)
+        crossings = corners + fraction[..., None] * (following - corners)
     points = np.concatenate([corners, crossings], axis=2)
     valid = np.concatenate([front, crossing], axis=2)[..., None]
     depth = np.where(valid, np.maximum(points[..., 2:], _NEAR), 1.0)
@@ -363,18 +404,20 @@ def render_poses(
     nearest = nearest.ravel()
     order = np.argsort(nearest, kind="stable")  # a radix sort: stays ordered by pose, pixel
     bounds = np.concatenate([[0], np.cumsum(np.bincount(nearest, minlength=quads)[:quads])])
-    zbuffer, coord_u, coord_v = zbuffer.ravel(), coord_u.ravel(), coord_v.ravel()
     ray_length = np.tile(_ray_lengths(width, height, *camera[[0, 1, 0, 1], [0, 1, 2, 2]]), count)
+    zbuffer = zbuffer.ravel()
+    depths, coord_u, coord_v, ray_length = (
+        np.take(values.ravel(), order) for values in (zbuffer, coord_u, coord_v, ray_length)
+    )
     focal = np.sqrt(camera[0, 0] * camera[1, 1])
     starts = np.arange(count + 1) * pixels
-    image = np.zeros((count * pixels, 3), np.float32)
+    shaded = np.zeros((count * pixels, 3), np.float32)  # in quad order; no surface: black
     for index, quad in enumerate(scene.quads):
-        visible = order[bounds[index] : bounds[index + 1]]
-        if visible.size == 0:
+        visible = slice(bounds[index], bounds[index + 1])
+        if bounds[index] == bounds[index + 1]:
             continue
-        per_pose = np.diff(np.searchsorted(visible, starts))
-        t, a, b = zbuffer[visible], coord_u[visible], coord_v[visible]
-        length = ray_length[visible]
+        per_pose = np.diff(np.searchsorted(order[visible], starts))
+        t, a, b, length = depths[visible], coord_u[visible], coord_v[visible], ray_length[visible]
         # the camera's side of the plane: the lit side, and |ray . normal| = |offset_n| / t
         side = np.repeat(offset_n[:, index].astype(np.float32), per_pose)
         light = np.full(t.shape, scene.ambient, np.float32)
@@ -396,11 +439,51 @@ def render_poses(
         footprint = (t * length) * np.float32(arrays["texels_per_metre"][index] / focal)
         footprint /= np.sqrt(np.maximum(cosine, np.float32(0.05)))
         texels = arrays["texels"][index].astype(np.float32)
-        albedo = _albedo(texture_pyramid(quad.texture), a * texels[0], b * texels[1], footprint)
-        image[visible] = albedo * (light[:, None] * np.asarray(quad.tint, np.float32))
+        albedo = _albedo(quad.texture, a * texels[0], b * texels[1], footprint)
+        shaded[visible] = albedo * (light[:, None] * np.asarray(quad.tint, np.float32))
+    back = np.empty(order.size, np.intp)
+    back[order] = np.arange(order.size)
+    image = np.take(shaded, back, axis=0)
 
     depth = np.where(nearest < _NO_HIT, zbuffer, np.float32(0))
     return image.reshape(count, height, width, 3), depth.reshape(count, height, width)
+
+
+def surface_depth(
+    scene: Scene, pose: np.ndarray, camera: np.ndarray, pixels: np.ndarray
+) -> np.ndarray:
+    """Z-depth of the surface seen at a few pixels: their rays cast at every quad at once.
+
+    Parameters
+    ----------
+    scene : Scene
+        What the camera sees.
+    pose : np.ndarray
+        (4, 4) camera-to-world pose, metres.
+    camera : np.ndarray
+        (3, 3) intrinsics, pixels.
+    pixels : np.ndarray
+        (N, 2) pixel coordinates (u, v).
+
+    Returns
+    -------
+    np.ndarray
+        (N,) z-depth, metres; 0 where no surface is hit.
+    """
+    arrays = scene.quad_arrays()
+    pixels = np.asarray(pixels, float).reshape(-1, 2)
+    rays = (
+        np.column_stack([(pixels - camera[:2, 2]) / camera[[0, 1], [0, 1]], np.ones(len(pixels))])
+        @ pose[:3, :3].T
+    )  # unit z-component in the camera frame: ray parameter = z-depth
+    relative = pose[:3, 3] - arrays["origin"]  # (quads, 3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        depth = -(relative * arrays["normal"]).sum(axis=1) / (rays @ arrays["normal"].T)
+        a = (relative * arrays["u_axis"]).sum(axis=1) + depth * (rays @ arrays["u_axis"].T)
+        b = (relative * arrays["v_axis"]).sum(axis=1) + depth * (rays @ arrays["v_axis"].T)
+        hit = (depth > _NEAR) & (a >= 0) & (a <= 1) & (b >= 0) & (b <= 1)
+    nearest = np.where(hit, depth, np.inf).min(axis=1)
+    return np.where(np.isfinite(nearest), nearest, 0.0)
 
 
 def render(
@@ -552,7 +635,18 @@ def render_reference(
         footprint = (
             t * ray_length[mask] / focal / np.sqrt(np.maximum(cosine, 0.05)) * texels_per_metre
         )
-        albedo = _albedo(pyramid, tex_x, tex_y, footprint)
+        base, fraction = _mip_level(footprint)
+        fraction = fraction[:, None]
+        albedo = np.empty((t.size, 3), np.float32)
+        for lod in np.unique(base):
+            sel = base == lod
+            fine = _sample(pyramid[lod], tex_x[sel] / 2**lod - 0.5, tex_y[sel] / 2**lod - 0.5)
+            coarse = _sample(
+                pyramid[lod + 1],
+                tex_x[sel] / 2 ** (lod + 1) - 0.5,
+                tex_y[sel] / 2 ** (lod + 1) - 0.5,
+            )
+            albedo[sel] = (1 - fraction[sel]) * fine + fraction[sel] * coarse
         image[mask] = albedo * np.asarray(quad.tint, np.float32) * light[:, None].astype(np.float32)
 
     depth_image = np.where(hit, hit_depth, 0.0).reshape(height, width)
