@@ -201,10 +201,12 @@ _ATLAS_PAD = 2  # texels of wrapped border around each level in an atlas
 
 
 @cache
-def _mip_atlas(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A texture's mip levels side by side in one image, each with a wrapped border, with
-    the atlas column of each level's texel 0 and each level's scale from level 0."""
-    levels = texture_pyramid(name)
+def _mip_atlas(
+    name: str, tint: tuple[float, float, float]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A texture's mip levels (times ``tint``) side by side in one image, each with a wrapped
+    border, with the atlas column of each level's texel 0 and each level's scale from level 0."""
+    levels = [level * np.asarray(tint, np.float32) for level in texture_pyramid(name)]
     pad = _ATLAS_PAD
     tiles = [cv2.copyMakeBorder(level, pad, pad, pad, pad, cv2.BORDER_WRAP) for level in levels]
     widths = np.array([tile.shape[1] for tile in tiles])
@@ -216,16 +218,16 @@ def _mip_atlas(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return atlas, (columns[:-1] + pad).astype(np.float32), scales.astype(np.float32)
 
 
-def _albedo(name: str, tex_x: np.ndarray, tex_y: np.ndarray, footprint: np.ndarray) -> np.ndarray:
-    """Trilinear (mip-mapped bilinear) albedo (n, 3) of texture ``name`` at texel coordinates
-    of level 0 (n,), for footprints (n,) of level-0 texels per pixel.
+def _albedo(quad: Quad, tex_x: np.ndarray, tex_y: np.ndarray, footprint: np.ndarray) -> np.ndarray:
+    """Trilinear (mip-mapped bilinear) albedo (n, 3) of a quad (its texture times its tint) at
+    texel coordinates of level 0 (n,), for footprints (n,) of level-0 texels per pixel.
 
     The same lookups as ``_sample`` on two wrapping levels, made in one remap per level from
     the texture's atlas: coordinates are wrapped into level 0 (every level has the same
     period) and scaled into each pixel's level.
     """
-    atlas, columns, scales = _mip_atlas(name)
-    height, width = texture_pyramid(name)[0].shape[:2]
+    atlas, columns, scales = _mip_atlas(quad.texture, quad.tint)
+    height, width = texture_pyramid(quad.texture)[0].shape[:2]
     base, fraction = _mip_level(footprint)
     x = tex_x - np.floor(tex_x * np.float32(1 / width)) * np.float32(width)
     y = tex_y - np.floor(tex_y * np.float32(1 / height)) * np.float32(height)
@@ -239,7 +241,8 @@ def _albedo(name: str, tex_x: np.ndarray, tex_y: np.ndarray, footprint: np.ndarr
     coarse = _sample(atlas, x * scale + column, y * scale + row, cv2.BORDER_REPLICATE)
     coarse -= fine
     coarse *= fraction[:, None]
-    return fine + coarse
+    fine += coarse
+    return fine
 
 
 def _shading_constants(scene: Scene) -> dict[str, np.ndarray]:
@@ -369,10 +372,11 @@ def render_poses(
     offset_u = (relative * arrays["u_axis"]).sum(axis=2)
     offset_v = (relative * arrays["v_axis"]).sum(axis=2)
     facing = _ray_dot(in_camera(arrays["normal"]), camera)
-    numerator_u = offset_u[..., None] * facing - offset_n[..., None] * _ray_dot(
+    # (a - 1/2) and (b - 1/2) times ray . normal: the quad is |a - 1/2|, |b - 1/2| <= 1/2
+    numerator_u = (offset_u[..., None] - 0.5) * facing - offset_n[..., None] * _ray_dot(
         in_camera(arrays["u_axis"]), camera
     )
-    numerator_v = offset_v[..., None] * facing - offset_n[..., None] * _ray_dot(
+    numerator_v = (offset_v[..., None] - 0.5) * facing - offset_n[..., None] * _ray_dot(
         in_camera(arrays["v_axis"]), camera
     )
     corners = np.einsum("sqcj,sjk->sqck", arrays["corners"][None] - eye[:, None, None], rotation)
@@ -394,7 +398,7 @@ def render_poses(
         b = _affine(numerator_v[:, index], u, v) * inverse
         window = (slice(None), slice(v0, v1), slice(u0, u1))
         closer = (depth > _NEAR) & (depth < zbuffer[window])
-        closer &= (a >= 0) & (a <= 1) & (b >= 0) & (b <= 1)
+        closer &= np.maximum(np.abs(a), np.abs(b)) <= 0.5
         np.copyto(zbuffer[window], depth, where=closer)
         np.copyto(nearest[window], index, where=closer)
         np.copyto(coord_u[window], a, where=closer)
@@ -417,30 +421,34 @@ def render_poses(
         if bounds[index] == bounds[index + 1]:
             continue
         per_pose = np.diff(np.searchsorted(order[visible], starts))
-        t, a, b, length = depths[visible], coord_u[visible], coord_v[visible], ray_length[visible]
-        # the camera's side of the plane: the lit side, and |ray . normal| = |offset_n| / t
-        side = np.repeat(offset_n[:, index].astype(np.float32), per_pose)
-        light = np.full(t.shape, scene.ambient, np.float32)
+        t, length = depths[visible], ray_length[visible]
+        a, b = coord_u[visible] + np.float32(0.5), coord_v[visible] + np.float32(0.5)
+        # the lit side of the plane is the camera's, and |ray . normal| = |offset_n| / t
+        sides = np.sign(offset_n[:, index]).astype(np.float32)
+        if (sides != sides[0]).any():
+            sides = np.repeat(sides, per_pose)
+        else:
+            sides = sides[0]
+        square = a * a * np.float32(arrays["length_u"][index] ** 2)
+        square += b * b * np.float32(arrays["length_v"][index] ** 2)
+        light = np.float32(scene.ambient)
         for lamp, power in enumerate(arrays["light_power"]):
-            toward = arrays["light_normal"][index, lamp]
-            lambert = np.where(side > 0, max(toward, 0.0), max(-toward, 0.0)).astype(np.float32)
-            distance2 = np.float32(arrays["light_offset"][index, lamp]) + a * (
-                a * np.float32(arrays["length_u"][index] ** 2)
-                + np.float32(arrays["light_along_u"][index, lamp])
-            )
-            distance2 += b * (
-                b * np.float32(arrays["length_v"][index] ** 2)
-                + np.float32(arrays["light_along_v"][index, lamp])
-            )
-            light += (np.float32(power) * lambert) / (
-                np.sqrt(distance2) * np.maximum(distance2, np.float32(0.25))
-            )
-        cosine = np.abs(side) / (t * length)
-        footprint = (t * length) * np.float32(arrays["texels_per_metre"][index] / focal)
-        footprint /= np.sqrt(np.maximum(cosine, np.float32(0.05)))
+            lambert = np.maximum(sides * np.float32(arrays["light_normal"][index, lamp]), 0)
+            distance2 = a * np.float32(arrays["light_along_u"][index, lamp])
+            distance2 += b * np.float32(arrays["light_along_v"][index, lamp])
+            distance2 += np.float32(arrays["light_offset"][index, lamp])
+            distance2 += square
+            falloff = np.sqrt(distance2)
+            falloff *= np.maximum(distance2, np.float32(0.25))
+            light = light + (np.float32(power) * lambert) / falloff
+        distance = t * length  # along the ray
+        offset = np.repeat(np.abs(offset_n[:, index]).astype(np.float32), per_pose)
+        cosine = np.maximum(offset / distance, np.float32(0.05))
+        footprint = distance * np.float32(arrays["texels_per_metre"][index] / focal)
+        footprint /= np.sqrt(cosine)
         texels = arrays["texels"][index].astype(np.float32)
-        albedo = _albedo(quad.texture, a * texels[0], b * texels[1], footprint)
-        shaded[visible] = albedo * (light[:, None] * np.asarray(quad.tint, np.float32))
+        albedo = _albedo(quad, a * texels[0], b * texels[1], footprint)
+        np.multiply(albedo, light[:, None], out=shaded[visible])
     back = np.empty(order.size, np.intp)
     back[order] = np.arange(order.size)
     image = np.take(shaded, back, axis=0)
