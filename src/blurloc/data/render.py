@@ -233,16 +233,16 @@ def _albedo(quad: Quad, tex_x: np.ndarray, tex_y: np.ndarray, footprint: np.ndar
     y = tex_y - np.floor(tex_y * np.float32(1 / height)) * np.float32(height)
     low, high = int(base.min()), int(base.max())
     lod = low if low == high else base
-    scale, column = scales[lod], columns[lod] - np.float32(0.5)
+    scale, column = np.take(scales, lod), np.take(columns, lod) - np.float32(0.5)
     row = np.float32(_ATLAS_PAD - 0.5)
     fine = _sample(atlas, x * scale + column, y * scale + row, cv2.BORDER_REPLICATE)
     column += scale * np.float32(width) + np.float32(2 * _ATLAS_PAD)  # the next level's
     scale = scale * np.float32(0.5)
     coarse = _sample(atlas, x * scale + column, y * scale + row, cv2.BORDER_REPLICATE)
-    coarse -= fine
-    coarse *= fraction[:, None]
-    fine += coarse
-    return fine
+    count = fraction.size  # cv2.blendLinear: per-pixel weights over a (1, count) image
+    return cv2.blendLinear(
+        coarse.reshape(1, count, 3), fine.reshape(1, count, 3), fraction[None], 1 - fraction[None]
+    ).reshape(count, 3)
 
 
 def _shading_constants(scene: Scene) -> dict[str, np.ndarray]:
@@ -407,26 +407,29 @@ def render_poses(
     # Shade the visible pixels of each quad (all poses together), in order of quad.
     nearest = nearest.ravel()
     order = np.argsort(nearest, kind="stable")  # a radix sort: stays ordered by pose, pixel
-    bounds = np.concatenate([[0], np.cumsum(np.bincount(nearest, minlength=quads)[:quads])])
+    slots = _NO_HIT + 1  # quad indices and no hit
+    key = (
+        nearest.reshape(count, pixels) + np.arange(0, count * slots, slots, dtype=np.int32)[:, None]
+    )
+    per_pose = np.bincount(key.ravel(), minlength=count * slots).reshape(count, slots)[:, :quads]
+    bounds = np.concatenate([[0], np.cumsum(per_pose.sum(axis=0))])
     ray_length = np.tile(_ray_lengths(width, height, *camera[[0, 1, 0, 1], [0, 1, 2, 2]]), count)
     zbuffer = zbuffer.ravel()
     depths, coord_u, coord_v, ray_length = (
         np.take(values.ravel(), order) for values in (zbuffer, coord_u, coord_v, ray_length)
     )
     focal = np.sqrt(camera[0, 0] * camera[1, 1])
-    starts = np.arange(count + 1) * pixels
     shaded = np.zeros((count * pixels, 3), np.float32)  # in quad order; no surface: black
     for index, quad in enumerate(scene.quads):
         visible = slice(bounds[index], bounds[index + 1])
         if bounds[index] == bounds[index + 1]:
             continue
-        per_pose = np.diff(np.searchsorted(order[visible], starts))
         t, length = depths[visible], ray_length[visible]
         a, b = coord_u[visible] + np.float32(0.5), coord_v[visible] + np.float32(0.5)
         # the lit side of the plane is the camera's, and |ray . normal| = |offset_n| / t
         sides = np.sign(offset_n[:, index]).astype(np.float32)
         if (sides != sides[0]).any():
-            sides = np.repeat(sides, per_pose)
+            sides = np.repeat(sides, per_pose[:, index])
         else:
             sides = sides[0]
         square = a * a * np.float32(arrays["length_u"][index] ** 2)
@@ -442,7 +445,7 @@ def render_poses(
             falloff *= np.maximum(distance2, np.float32(0.25))
             light = light + (np.float32(power) * lambert) / falloff
         distance = t * length  # along the ray
-        offset = np.repeat(np.abs(offset_n[:, index]).astype(np.float32), per_pose)
+        offset = np.repeat(np.abs(offset_n[:, index]).astype(np.float32), per_pose[:, index])
         cosine = np.maximum(offset / distance, np.float32(0.05))
         footprint = distance * np.float32(arrays["texels_per_metre"][index] / focal)
         footprint /= np.sqrt(cosine)
