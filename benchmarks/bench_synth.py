@@ -6,18 +6,50 @@ projected time of the full stand-in.
 
 1. The same frames (the first ``--frames`` of one sequence of every scene, blurred as the
    stand-in makes them: every sub-exposure sample rendered and averaged) are rendered with the
-   reference ray cast (``render_exposure(reference=True)``, the renderer of format 4) and with
+   reference ray cast (``render_exposure(reference=True)``: format 4's renderer, on the same
+   textures) and with
    the fast renderer, each over ``--workers`` processes; prints frames/s of both and the ratio.
 2. ``synthesize`` (the fast renderer, PNGs written) on 2 sequences of ``--synth-frames`` frames
    per scene (fixed costs, such as starting the workers, are included), then the
    projected time of the full default stand-in and of 7-Scenes' 43,000 frames at 160x120
    (target: <= 10 minutes on 2 cores), and the time of the quick stand-in (target: <= 20 s).
 
-Measured 2026-11-23 on the project's shared 2-core machine (other jobs running beside it, so
-absolute times vary run to run; the ratio is taken within one run) with
-``PYTHONPATH=src python benchmarks/bench_synth.py``::
+Measured 2026-11-23 on the project's shared 2-core machine while other jobs ran beside it
+(load average 4-5), so wall-clock rates and projections vary from run to run; CPU times vary
+less. ``PYTHONPATH=src python benchmarks/bench_synth.py``::
 
-    (see the end of this docstring: filled in from the run recorded in the commit)
+    same 130 blurred frames (160x120, first 20 of a sequence per scene), 2 worker(s), best of 2:
+      reference ray cast   12.84 frames/s     74.8 ms CPU/frame
+      fast renderer        70.75 frames/s     14.4 ms CPU/frame
+      ratio 5.5x (frames/s), 5.2x (CPU time)
+    synthesize: 1300 frames (160x120, 14 sequences, PNGs written), 2 worker(s):
+      43.5 s, 29.9 frames/s
+      full default stand-in (4300 frames): 2.4 min
+      43000 frames: 24.0 min (target <= 10 min on 2 cores)
+    one sequence in this process: 19.5 ms CPU/frame (PNGs written)
+      43000 frames on 2 free cores: 7.0 min
+    quick stand-in: 5.4 s (target <= 20 s)
+
+An earlier run on a quieter machine (load ~2) gave 23.3 vs 133.3 frames/s (5.7x; 72.0 vs
+13.9 ms CPU/frame), synthesize 78.2 frames/s (43,000 frames: 9.2 min) and 18.1 ms CPU/frame
+in one process (6.5 min on 2 free cores); the quick stand-in took 3.0 s.
+
+At 640x480 (``--width 640 --height 480 --frames 3 --skip-synth``; frames blur 4x more pixels,
+so they average about 4x more sub-exposure renders)::
+
+    same 20 blurred frames (640x480, first 3 of a sequence per scene), 2 worker(s), best of 2:
+      reference ray cast    0.32 frames/s   2864.6 ms CPU/frame
+      fast renderer         1.42 frames/s    646.4 ms CPU/frame
+      ratio 4.5x (frames/s), 4.4x (CPU time)
+
+Before the fast renderer (format 4, commit 4e89d5c), this benchmark's earlier version
+(``python benchmarks/bench_synth.py --frames 20 --workers 2``, which timed ``synthesize`` only)
+printed::
+
+    rendered 260 frames (160x120, 14 sequences) in 28.4 s with 2 worker(s)
+    frames per second: 9.1 in all, 4.6 per worker
+    full default stand-in: 4300 frames, projected 7.8 min (target <= 10 min on 2 cores)
+    quick stand-in: 15.9 s (target <= 20 s)
 """
 
 from __future__ import annotations
@@ -143,16 +175,16 @@ def main() -> None:
     rate = total_sample / seconds
     print(
         f"synthesize: {total_sample} frames ({full.width}x{full.height}, 14 sequences, PNGs "
-        f"written) in {seconds:.1f} s with {args.workers} worker(s): {rate:.1f} frames/s"
+        f"written), {args.workers} worker(s):\n  {seconds:.1f} s, {rate:.1f} frames/s"
     )
+    print(f"  full default stand-in ({total_full} frames): {total_full / rate / 60:.1f} min")
     print(
-        f"full default stand-in: {total_full} frames, projected {total_full / rate / 60:.1f} min; "
-        f"{SEVEN_SCENES_FRAMES} frames: {SEVEN_SCENES_FRAMES / rate / 60:.1f} min "
+        f"  {SEVEN_SCENES_FRAMES} frames: {SEVEN_SCENES_FRAMES / rate / 60:.1f} min "
         f"(target <= 10 min on 2 cores)"
     )
+    print(f"one sequence in this process: {1000 * frame_cpu:.1f} ms CPU/frame (PNGs written)")
     print(
-        f"one sequence in this process: {1000 * frame_cpu:.1f} ms CPU per frame (PNGs written); "
-        f"{SEVEN_SCENES_FRAMES} frames on {args.workers} free cores: "
+        f"  {SEVEN_SCENES_FRAMES} frames on {args.workers} free cores: "
         f"{SEVEN_SCENES_FRAMES * frame_cpu / args.workers / 60:.1f} min"
     )
     print(f"quick stand-in: {quick_seconds:.1f} s (target <= 20 s)")
