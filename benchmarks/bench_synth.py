@@ -7,8 +7,8 @@ projected time of the full stand-in.
 1. The same frames (the first ``--frames`` of one sequence of every scene, blurred as the
    stand-in makes them: every sub-exposure sample rendered and averaged) are rendered with the
    reference ray cast (``render_exposure(reference=True)``: format 4's renderer, on the same
-   textures) and with
-   the fast renderer, each over ``--workers`` processes; prints frames/s of both and the ratio.
+   textures) and with the fast renderer, each over ``--workers`` processes; prints frames/s and
+   CPU time per frame of both, and the ratios.
 2. ``synthesize`` (the fast renderer, PNGs written) on 2 sequences of ``--synth-frames`` frames
    per scene (fixed costs, such as starting the workers, are included), then the
    projected time of the full default stand-in and of 7-Scenes' 43,000 frames at 160x120
