@@ -1,33 +1,160 @@
-"""Rendering speed of the stand-in: frames per second, and the projected time of the full one.
+"""Rendering speed of the stand-in: the fast renderer beside the reference ray cast, and the
+projected time of the full stand-in.
 
-    python benchmarks/bench_synth.py [--frames 30] [--workers 2]
+    python benchmarks/bench_synth.py [--frames 20] [--workers 2] [--width 160 --height 120]
+                                     [--repeats 2] [--synth-frames 100] [--skip-synth]
 
-Renders a few sequences with the default settings into a temporary folder and prints frames/s
-(per process and in all), then the time the full default stand-in would take (target: <= 10
-minutes on 2 cores) and the time of the quick one (target: <= 20 s).
+1. The same frames (the first ``--frames`` of one sequence of every scene, blurred as the
+   stand-in makes them: every sub-exposure sample rendered and averaged) are rendered with the
+   reference ray cast (``render_exposure(reference=True)``: format 4's renderer, on the same
+   textures) and with the fast renderer, each over ``--workers`` processes; prints frames/s and
+   CPU time per frame of both, and the ratios.
+2. ``synthesize`` (the fast renderer, PNGs written) on 2 sequences of ``--synth-frames`` frames
+   per scene (fixed costs, such as starting the workers, are included), then the
+   projected time of the full default stand-in and of 7-Scenes' 43,000 frames at 160x120
+   (target: <= 10 minutes on 2 cores), and the time of the quick stand-in (target: <= 20 s).
+
+Measured 2026-11-23 on the project's shared 2-core machine while other jobs ran beside it
+(load average 4-5), so wall-clock rates and projections vary from run to run; CPU times vary
+less. ``PYTHONPATH=src python benchmarks/bench_synth.py``::
+
+    same 130 blurred frames (160x120, first 20 of a sequence per scene), 2 worker(s), best of 2:
+      reference ray cast   12.84 frames/s     74.8 ms CPU/frame
+      fast renderer        70.75 frames/s     14.4 ms CPU/frame
+      ratio 5.5x (frames/s), 5.2x (CPU time)
+    synthesize: 1300 frames (160x120, 14 sequences, PNGs written), 2 worker(s):
+      43.5 s, 29.9 frames/s
+      full default stand-in (4300 frames): 2.4 min
+      43000 frames: 24.0 min (target <= 10 min on 2 cores)
+    one sequence in this process: 19.5 ms CPU/frame (PNGs written)
+      43000 frames on 2 free cores: 7.0 min
+    quick stand-in: 5.4 s (target <= 20 s)
+
+An earlier run on a quieter machine (load ~2) gave 23.3 vs 133.3 frames/s (5.7x; 72.0 vs
+13.9 ms CPU/frame), synthesize 78.2 frames/s (43,000 frames: 9.2 min) and 18.1 ms CPU/frame
+in one process (6.5 min on 2 free cores); the quick stand-in took 3.0 s.
+
+At 640x480 (``--width 640 --height 480 --frames 3 --skip-synth``; frames blur 4x more pixels,
+so they average about 4x more sub-exposure renders)::
+
+    same 20 blurred frames (640x480, first 3 of a sequence per scene), 2 worker(s), best of 2:
+      reference ray cast    0.32 frames/s   2864.6 ms CPU/frame
+      fast renderer         1.42 frames/s    646.4 ms CPU/frame
+      ratio 4.5x (frames/s), 4.4x (CPU time)
+
+Before the fast renderer (format 4, commit 4e89d5c), this benchmark's earlier version
+(``python benchmarks/bench_synth.py --frames 20 --workers 2``, which timed ``synthesize`` only)
+printed::
+
+    rendered 260 frames (160x120, 14 sequences) in 28.4 s with 2 worker(s)
+    frames per second: 9.1 in all, 4.6 per worker
+    full default stand-in: 4300 frames, projected 7.8 min (target <= 10 min on 2 cores)
+    quick stand-in: 15.9 s (target <= 20 s)
 """
 
 from __future__ import annotations
 
 import argparse
+import multiprocessing
 import os
+import sys
 import tempfile
 import time
 from dataclasses import replace
+from pathlib import Path
 
+import cv2
+import numpy as np
+
+from blurloc.data.render import TEXTURE_NAMES, texture_pyramid
 from blurloc.data.scenes import SCENE_NAMES
-from blurloc.data.synth import SynthConfig, synthesize
+from blurloc.data.synth import (
+    SynthConfig,
+    render_exposure,
+    render_sequence,
+    sequence_trajectory,
+    synthesize,
+)
+from blurloc.geometry import intrinsics
+
+SEVEN_SCENES_FRAMES = 43_000
+
+
+_SEQUENCES: dict[str, tuple] = {}  # per process: scene name -> (scene, trajectory)
+
+
+def render_frames(job: tuple[str, SynthConfig, bool]) -> tuple[int, float]:
+    """Render (without writing) every frame of sequence 1 of a scene; returns the count and
+    the CPU seconds it took."""
+    scene_name, config, reference = job
+    cv2.setNumThreads(1)
+    scene, trajectory = _SEQUENCES[scene_name]
+    camera = intrinsics(config.width, config.height)
+    frames = config.frames_for(scene_name)
+    start = time.process_time()
+    for frame in range(frames):
+        render_exposure(scene, trajectory, frame / config.fps, config, camera, reference)
+    return frames, time.process_time() - start
+
+
+def prepare(config: SynthConfig) -> None:
+    """Load every texture and make every trajectory (once per process, as a long render
+    does), outside the timing."""
+    for name in TEXTURE_NAMES:
+        texture_pyramid(name)
+    for name in SCENE_NAMES:
+        _SEQUENCES[name] = sequence_trajectory(name, 1, config)
+
+
+def frames_per_second(config: SynthConfig, reference: bool, workers: int) -> tuple[float, float]:
+    """Frames/s (wall clock) of rendering the first frames of every scene over ``workers``
+    processes, and the CPU seconds per frame."""
+    jobs = [(name, config, reference) for name in SCENE_NAMES]
+    method = "forkserver" if sys.platform.startswith("linux") else "spawn"
+    with multiprocessing.get_context(method).Pool(workers, prepare, (config,)) as pool:
+        pool.map(time.sleep, [0.5] * workers, chunksize=1)  # every worker is prepared
+        start = time.perf_counter()
+        frames, cpu = np.sum(pool.map(render_frames, jobs, chunksize=1), axis=0)
+        return frames / (time.perf_counter() - start), cpu / frames
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--frames", type=int, default=30, help="frames per sequence to time")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--frames", type=int, default=20, help="frames per scene to compare")
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--width", type=int, default=160)
+    parser.add_argument("--height", type=int, default=120)
+    parser.add_argument("--repeats", type=int, default=2, help="timings of each renderer")
+    parser.add_argument("--synth-frames", type=int, default=100, help="per sequence, part 2")
+    parser.add_argument("--skip-synth", action="store_true", help="only the side-by-side part")
     args = parser.parse_args()
+
+    config = replace(
+        SynthConfig(), width=args.width, height=args.height, frames_per_sequence=args.frames
+    )
+    paths = ("reference ray cast", "fast renderer")
+    rates, cpu = dict.fromkeys(paths, 0.0), dict.fromkeys(paths, np.inf)
+    for _ in range(args.repeats):  # alternated, best of each: other jobs share the machine
+        for name in paths:
+            rate, seconds = frames_per_second(config, name == paths[0], args.workers)
+            rates[name], cpu[name] = max(rates[name], rate), min(cpu[name], seconds)
+    compared = sum(config.frames_for(name) for name in SCENE_NAMES)
+    print(
+        f"same {compared} blurred frames ({args.width}x{args.height}, first {args.frames} of a "
+        f"sequence per scene), {args.workers} worker(s), best of {args.repeats}:"
+    )
+    for name in paths:
+        print(f"  {name:18s} {rates[name]:7.2f} frames/s  {1000 * cpu[name]:7.1f} ms CPU/frame")
+    print(
+        f"  ratio {rates[paths[1]] / rates[paths[0]]:.1f}x (frames/s), "
+        f"{cpu[paths[0]] / cpu[paths[1]]:.1f}x (CPU time)"
+    )
+    if args.skip_synth:
+        return
 
     full = SynthConfig()
     counts = {name: (1, 1) for name in SCENE_NAMES}
-    sample = replace(full, frames_per_sequence=args.frames, sequence_counts=counts)
+    sample = replace(full, frames_per_sequence=args.synth_frames, sequence_counts=counts)
     total_sample = sum(2 * sample.frames_for(name) for name in SCENE_NAMES)
     total_full = sum(sum(full.sequence_counts[n]) * full.frames_for(n) for n in SCENE_NAMES)
     with tempfile.TemporaryDirectory() as folder:
@@ -42,15 +169,23 @@ def main() -> None:
             progress=False,
         )
         quick_seconds = time.perf_counter() - start
+        start = time.process_time()
+        frames = render_sequence(Path(folder) / "one", "office", 1, sample, seed=0)
+        frame_cpu = (time.process_time() - start) / frames
     rate = total_sample / seconds
     print(
-        f"rendered {total_sample} frames ({full.width}x{full.height}, 14 sequences) "
-        f"in {seconds:.1f} s with {args.workers} worker(s)"
+        f"synthesize: {total_sample} frames ({full.width}x{full.height}, 14 sequences, PNGs "
+        f"written), {args.workers} worker(s):\n  {seconds:.1f} s, {rate:.1f} frames/s"
     )
-    print(f"frames per second: {rate:.1f} in all, {rate / args.workers:.1f} per worker")
+    print(f"  full default stand-in ({total_full} frames): {total_full / rate / 60:.1f} min")
     print(
-        f"full default stand-in: {total_full} frames, projected {total_full / rate / 60:.1f} min "
+        f"  {SEVEN_SCENES_FRAMES} frames: {SEVEN_SCENES_FRAMES / rate / 60:.1f} min "
         f"(target <= 10 min on 2 cores)"
+    )
+    print(f"one sequence in this process: {1000 * frame_cpu:.1f} ms CPU/frame (PNGs written)")
+    print(
+        f"  {SEVEN_SCENES_FRAMES} frames on {args.workers} free cores: "
+        f"{SEVEN_SCENES_FRAMES * frame_cpu / args.workers / 60:.1f} min"
     )
     print(f"quick stand-in: {quick_seconds:.1f} s (target <= 20 s)")
 

@@ -47,7 +47,7 @@ from ..geometry import (
     make_pose,
     project,
 )
-from .render import Scene, linear_to_srgb, render
+from .render import Scene, linear_to_srgb, render_poses, render_reference, surface_depth
 from .scenes import SCENE_NAMES, SEQUENCE_COUNTS, camera_region, make_scene
 
 #: Per-frame motion of the real 7-Scenes trajectories (30 fps, handheld Kinect), from DESIGN.md.
@@ -58,7 +58,8 @@ REAL_7SCENES_MOTION = {
     "rotation_p95_deg": (1.1, 2.0),
 }
 
-FORMAT_VERSION = 4  # bump whenever rendering changes, so stale stand-ins are rendered again
+FORMAT_VERSION = 5  # bump whenever rendering changes, so stale stand-ins are rendered again
+_BATCH_PIXELS = 400_000  # sub-exposure renders of a frame are rendered together, this many pixels
 #: File that marks a folder as a rendered stand-in and records the settings and seed.
 STANDIN_MANIFEST = "standin.json"
 #: File held (created exclusively, holding the PID) while a render writes into a stand-in.
@@ -303,16 +304,14 @@ def exposure_tracks(
     describe a real camera-shake frame.
     """
     mid_pose = trajectory.poses([time_s])[0]
-    if depth is None:
-        depth = render(scene, mid_pose, camera, config.width, config.height)[1]
     step = grid_step or max(1, min(config.width, config.height) // 16)
     v, u = np.mgrid[step // 2 : config.height : step, step // 2 : config.width : step]
-    valid = depth[v, u] > 0
+    grid = np.column_stack([u.ravel(), v.ravel()])
+    z = surface_depth(scene, mid_pose, camera, grid) if depth is None else depth[v, u].ravel()
+    valid = z > 0
     if not valid.any():
         raise RuntimeError(f"{scene.name}: the camera sees no surface at t = {time_s:.3f} s")
-    points = backproject(
-        np.column_stack([u[valid], v[valid]]), depth[v, u][valid], mid_pose, camera
-    )
+    points = backproject(grid[valid], z[valid], mid_pose, camera)
     exposure = config.blur_strength / config.fps
     times = time_s + exposure * np.linspace(-0.5, 0.5, samples)
     return np.stack([project(points, pose, camera)[:, :2] for pose in trajectory.poses(times)])
@@ -324,27 +323,64 @@ def render_exposure(
     time_s: float,
     config: SynthConfig,
     camera: np.ndarray,
+    reference: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, BlurInfo]:
     """Render one frame: linear-light blurred image, sharp image at mid-exposure, depth, blur.
 
     The exposure [t - E/2, t + E/2] (E = blur_strength / fps) is integrated with the midpoint
     rule over an odd number of sharp renders, spaced at most ``max_sample_spacing_px`` apart in
     the image, so the middle render is the sharp frame itself and no motion gives a blurred
-    frame equal to the sharp one.
+    frame equal to the sharp one. The renders other than the middle one are rasterised together
+    (:func:`~blurloc.data.render.render_poses`).
+
+    Parameters
+    ----------
+    scene : Scene
+        What the camera sees.
+    trajectory : HandheldTrajectory
+        The camera path (anything with ``poses(times) -> (N, 4, 4)``).
+    time_s : float
+        Mid-exposure time of the frame, seconds.
+    config : SynthConfig
+        Image size, exposure (``blur_strength``) and sample spacing.
+    camera : np.ndarray
+        (3, 3) intrinsics, pixels.
+    reference : bool
+        Render every sample with :func:`~blurloc.data.render.render_reference` (the slow ray
+        cast the fast renderer is checked and timed against).
+
+    Returns
+    -------
+    blurred, sharp : np.ndarray
+        (height, width, 3) float32 linear-light images: the exposure's average and its middle.
+    depth : np.ndarray
+        (height, width) z-depth at mid-exposure, metres (0: no surface).
+    blur : BlurInfo
+        Blur extent and direction, and the number of renders averaged.
     """
     width, height = config.width, config.height
-    mid_pose = trajectory.poses([time_s])[0]
-    sharp, depth = render(scene, mid_pose, camera, width, height)
     exposure = config.blur_strength / config.fps
-    tracks = exposure_tracks(scene, trajectory, time_s, config, camera, depth)
+    tracks = exposure_tracks(scene, trajectory, time_s, config, camera)
     mean_px, max_px, angle = blur_from_motion(tracks)
     samples = int(np.clip(np.ceil(max_px / config.max_sample_spacing_px), 1, 41)) if exposure else 1
     samples += 1 - samples % 2  # odd, so the middle sample is the mid-exposure (sharp) render
+    middle = samples // 2
     offsets = exposure * ((np.arange(samples) + 0.5) / samples - 0.5)
-    total = sharp.astype(np.float64)
-    for index, pose in enumerate(trajectory.poses(time_s + offsets)):
-        if index != samples // 2:
-            total += render(scene, pose, camera, width, height)[0]
+    offsets[middle] = 0.0
+    poses = trajectory.poses(time_s + offsets)
+    batch = 1 if reference else max(1, _BATCH_PIXELS // (width * height))
+    total = np.zeros((height, width, 3), np.float64)
+    for first in range(0, samples, batch):
+        if reference:
+            image, depth = render_reference(scene, poses[first], camera, width, height)
+            images, depths = image[None], depth[None]
+        else:
+            images, depths = render_poses(
+                scene, poses[first : first + batch], camera, width, height
+            )
+        total += images.sum(axis=0, dtype=np.float64)
+        if first <= middle < first + len(images):
+            sharp, depth = images[middle - first], depths[middle - first]
     blurred = (total / samples).astype(np.float32)
     return blurred, sharp, depth, BlurInfo(mean_px, max_px, angle, samples)
 
