@@ -48,10 +48,8 @@ def main() -> None:
     single = VideoDeblurNet(VideoDeblurConfig(aux_state=False, blending=False, recurrent=False))
     for name, model in (("full network (checkpoint)", full), ("single-frame baseline", single)):
         fps = frames_per_second(model, video)
-        print(
-            f"{name}: {parameter_count(model):,} parameters, {fps:.1f} frames/s at 160x120 "
-            f"on {args.threads} threads (target >= 25)"
-        )
+        print(f"{name}: {parameter_count(model):,} parameters, {fps:.1f} frames/s at 160x120 "
+              f"on {args.threads} threads (target >= 25)")
     gains = []
     for index, photo in enumerate(PHOTOS):
         for step in (0.5, 1.0, 1.5):
@@ -60,14 +58,10 @@ def main() -> None:
             before = mean_frame_psnr(list(zip(sharp, blurred, strict=True)))
             after = mean_frame_psnr(list(zip(sharp, restore_sequence(full, blurred), strict=True)))
             gains.append(after - before)
-            print(
-                f"photo video {photo}, {step} px per sub-frame: {before:.2f} dB -> "
-                f"{after:.2f} dB ({after - before:+.2f})"
-            )
-    print(
-        f"photo videos: gain min {min(gains):+.2f} dB, mean {np.mean(gains):+.2f} dB "
-        f"(must not be worse than the input)"
-    )
+            print(f"photo video {photo}, {step} px per sub-frame: {before:.2f} dB -> "
+                  f"{after:.2f} dB ({after - before:+.2f})")
+    print(f"photo videos: gain min {min(gains):+.2f} dB, mean {np.mean(gains):+.2f} dB "
+          f"(must not be worse than the input)")
 
 
 if __name__ == "__main__":
