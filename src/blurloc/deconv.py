@@ -11,7 +11,13 @@ import cv2
 import numpy as np
 import scipy.fft
 
-from .blur import BLUR_THRESHOLD, check_kernel, detect_blur, estimate_motion_blur
+from .blur import (
+    BLUR_THRESHOLD,
+    check_kernel,
+    detect_blur,
+    estimate_motion_blur,
+    estimate_noise_sigma,
+)
 from .images import check_image, like_input
 
 #: NSR = NSR_COEFFICIENT * sigma ** NSR_EXPONENT (sigma: the image's noise, [0, 1] scale): a
@@ -29,21 +35,6 @@ def kernel_to_otf(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     padded[: kernel.shape[0], : kernel.shape[1]] = kernel
     padded = np.roll(padded, (-(kernel.shape[0] // 2), -(kernel.shape[1] // 2)), axis=(0, 1))
     return scipy.fft.rfft2(padded, workers=-1)
-
-
-_IMMERKAER = np.float32([[1.0, -2.0, 1.0], [-2.0, 4.0, -2.0], [1.0, -2.0, 1.0]])
-
-
-def estimate_noise_sigma(image: np.ndarray) -> float:
-    """Standard deviation of Gaussian noise in ``image`` ([0, 1] scale), by Immerkær's method
-    (1996): the mean absolute response to a 3x3 kernel that cancels smooth image structure,
-    times sqrt(pi / 2) / 6. Channels are averaged."""
-    image = check_image(image)
-    if min(image.shape[:2]) < 3:
-        raise ValueError("image must be at least 3x3 pixels to estimate noise")
-    scale = 1.0 / 255.0 if image.dtype == np.uint8 else 1.0
-    response = cv2.filter2D(image.astype(np.float32), cv2.CV_32F, _IMMERKAER)[1:-1, 1:-1]
-    return float(np.sqrt(np.pi / 2) / 6 * scale * np.abs(response).mean(dtype=np.float64))
 
 
 def estimate_nsr(image: np.ndarray) -> float:
