@@ -183,6 +183,8 @@ def estimate_noise_sigma(image: np.ndarray) -> float:
     return float(np.sqrt(np.pi / 2) / 6 * scale * np.abs(response).mean(dtype=np.float64))
 
 
+#: Smallest image side (px) on which blur can be detected or estimated.
+MIN_ANALYSIS_SIDE = 16
 #: Frequency bands of :func:`blur_score`, in cycles per pixel.
 MID_BAND = (0.03, 0.10)
 HIGH_BAND = (0.25, 0.40)
@@ -194,7 +196,11 @@ BLUR_THRESHOLD = 4.82
 def blur_score(image: np.ndarray, window: int = 256) -> float:
     """Spectral fall-off: ln(mean power in MID_BAND / mean power in HIGH_BAND) of the Welch log
     spectrum. Blur removes high frequencies, so the score grows with blur (natural sharp images,
-    whose power falls as 1/f^2, score about 2 ln(0.32 / 0.065) ~ 3)."""
+    whose power falls as 1/f^2, score about 2 ln(0.32 / 0.065) ~ 3). Images with a side under
+    MIN_ANALYSIS_SIDE px are refused (ValueError): their spectrum has no bins in the bands."""
+    if min(np.shape(image)[:2]) < MIN_ANALYSIS_SIDE:
+        raise ValueError(f"image too small to detect blur: {np.shape(image)[:2]} "
+                         f"(needs >= {MIN_ANALYSIS_SIDE} px)")  # fmt: skip
     power = np.exp(log_power_spectrum(image, window))
     size = power.shape[0]
     fy, fx = np.mgrid[-(size // 2) : size - size // 2, -(size // 2) : size - size // 2]
@@ -364,8 +370,9 @@ def _analysis_copy(image: np.ndarray) -> tuple[np.ndarray, float]:
     """Gray copy at the analysis scale and the factor (>= 1) from its pixels to the image's."""
     gray = to_gray(check_image(image))
     short = min(gray.shape)
-    if short < 16:
-        raise ValueError(f"image too small to estimate blur: {gray.shape} (needs >= 16 px)")
+    if short < MIN_ANALYSIS_SIDE:
+        raise ValueError(f"image too small to estimate blur: {gray.shape} "
+                         f"(needs >= {MIN_ANALYSIS_SIDE} px)")  # fmt: skip
     if short <= ANALYSIS_SIDE:
         return gray.astype(np.float32), 1.0
     factor = short / ANALYSIS_SIDE
