@@ -56,13 +56,17 @@ def motion_kernel(length_px: float, angle_deg: float, size: int | None = None) -
     return _splat(points, np.ones(count), size)
 
 
-def trajectory_kernel(trajectory_px: np.ndarray, size: int | None = None) -> np.ndarray:
+def trajectory_kernel(
+    trajectory_px: np.ndarray, size: int | None = None, origin: np.ndarray | None = None
+) -> np.ndarray:
     """PSF of a camera-shake path: image positions (N, 2; x right, y down, px) at equal time
-    steps over the exposure. The path is centred on its mean and sampled 16 times per pixel."""
+    steps over the exposure, sampled 16 times per pixel. ``origin`` (2,) is the position placed
+    at the kernel centre (default: the path's mean); pass the mid-exposure position to get the
+    kernel that maps a mid-exposure sharp frame to the blurred one without a shift."""
     path = np.asarray(trajectory_px, float)
     if path.ndim != 2 or path.shape[1] != 2 or len(path) < 1 or not np.isfinite(path).all():
         raise ValueError("trajectory must be a finite (N, 2) array of pixel positions")
-    path = path - path.mean(axis=0)
+    path = path - (path.mean(axis=0) if origin is None else np.asarray(origin, float))
     samples, weights = [path[:1]], [np.ones(1)]  # a single position: a sharp (delta) kernel
     for start, end in itertools.pairwise(path):
         count = max(1, int(np.ceil(np.linalg.norm(end - start) * _SUBSAMPLES_PER_PX)))
