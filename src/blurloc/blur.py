@@ -144,6 +144,12 @@ def to_gray(image: np.ndarray) -> np.ndarray:
     return cv2.transform(image.astype(dtype), weights)
 
 
+@functools.cache
+def _hann(size: int) -> np.ndarray:
+    """2-D Hann window (float32), cached per size: a folder of frames plans it once."""
+    return np.outer(np.hanning(size), np.hanning(size)).astype(np.float32)
+
+
 def log_power_spectrum(image: np.ndarray, window: int = 256) -> np.ndarray:
     """Centred log power spectrum, averaged over Hann-windowed tiles (Welch's method).
 
@@ -156,7 +162,7 @@ def log_power_spectrum(image: np.ndarray, window: int = 256) -> np.ndarray:
     size -= size % 2
     if size < 8:
         raise ValueError(f"image too small for a spectrum: {gray.shape}")
-    hann = np.outer(np.hanning(size), np.hanning(size))
+    hann = _hann(size)
     step = size // 2
     tiles = [
         gray[r : r + size, c : c + size]
@@ -164,7 +170,7 @@ def log_power_spectrum(image: np.ndarray, window: int = 256) -> np.ndarray:
         for c in range(0, gray.shape[1] - size + 1, step)
     ]
     stack = np.stack(tiles).astype(np.float32)
-    stack = (stack - stack.mean(axis=(1, 2), keepdims=True)) * hann.astype(np.float32)
+    stack = (stack - stack.mean(axis=(1, 2), keepdims=True)) * hann
     half = (np.abs(scipy.fft.rfft2(stack, workers=-1)) ** 2).mean(axis=0, dtype=np.float64)
     power = np.empty((size, size))  # the other half by symmetry: P(-f) = P(f) for real tiles
     power[:, : size // 2 + 1] = half
@@ -299,8 +305,11 @@ def _sinc_fit(r: np.ndarray, profile: np.ndarray, size: int) -> tuple[float, flo
     return float(lengths[int(np.argmax(fits))]), float(fits.max())
 
 
-def _analyse(gray: np.ndarray, window: int) -> tuple[float, float, float]:
-    """Direction (rad, x right / y down), length (px) and sinc-fit correlation."""
+def _analyse(
+    gray: np.ndarray, window: int, around_deg: float | None = None
+) -> tuple[float, float, float]:
+    """Direction (rad, x right / y down), length (px) and sinc-fit correlation. The direction is
+    searched over all angles, or within 12° of ``around_deg`` (same convention) when given."""
     spectrum = log_power_spectrum(gray, window)
     size = spectrum.shape[0]
     whitened, fx, fy = _whiten(spectrum)
@@ -315,8 +324,10 @@ def _analyse(gray: np.ndarray, window: int) -> tuple[float, float, float]:
 
     best = None
     for level, step in enumerate(_ANGLE_STEPS_DEG):
-        if best is None:
+        if best is None and around_deg is None:
             candidates = np.arange(0.0, 180.0, step)
+        elif best is None:
+            candidates = around_deg + np.arange(-12.0, 12.0 + 1e-9, step)
         else:
             span = _ANGLE_STEPS_DEG[level - 1]
             candidates = best + np.arange(-span, span + 1e-9, step)
@@ -341,13 +352,6 @@ LENGTH_COEFFICIENTS = (2.1729, 0.0132, -0.3760, 0.3158, -2.0584, -0.1801, 0.8445
                        1.5929, -0.7400, -1.1186, 2.6142)  # fmt: skip
 #: Coarse estimates at least this long (px of the image given) are refined from the sinc zeros.
 SINC_MIN_PX = 6.0
-
-
-@functools.cache
-def _hann(size: int) -> np.ndarray:
-    """2-D Hann window (float32), normalised to unit power, cached per size."""
-    window = np.outer(np.hanning(size), np.hanning(size)).astype(np.float32)
-    return window / np.float32(np.sqrt((window.astype(np.float64) ** 2).sum()))
 
 
 @functools.cache
@@ -433,8 +437,10 @@ def blur_features(image: np.ndarray) -> BlurFeatures:
     tiles = np.stack([gray[r : r + size, c : c + size]
                       for r in range(0, gray.shape[0] - size + 1, step)
                       for c in range(0, gray.shape[1] - size + 1, step)])  # fmt: skip
-    tiles = (tiles - tiles.mean(axis=(1, 2), keepdims=True)) * _hann(size)
+    window = _hann(size)
+    tiles = (tiles - tiles.mean(axis=(1, 2), keepdims=True)) * window
     power = (np.abs(scipy.fft.rfft2(tiles)) ** 2).mean(axis=0).ravel()
+    power /= float((window.astype(np.float64) ** 2).sum())  # white noise of variance v: v
     index, counts, sectors = _polar_bins(size)
     inside = index >= 0
     binned = np.bincount(index[inside], power[inside], minlength=counts.size) / counts
@@ -496,9 +502,10 @@ def estimate_motion_blur(image: np.ndarray, window: int = 256) -> BlurEstimate:
 
     Coarse, for any blur: :func:`blur_features` gives the direction; a ridge model on its band
     values (LENGTH_COEFFICIENTS, fitted on the stand-in's training split) gives the extent.
-    Fine, for long linear blur (coarse length >= SINC_MIN_PX): the sinc zeros of the Welch log
-    spectrum (``window`` px tiles), whitened by its radial mean, searched by Radon projection
-    (3° grid, refined to 0.1°) and fitted by log sinc^2(L r / N) (L on a 0.5 px grid, refined to
+    Fine, for long linear blur (coarse length >= SINC_MIN_PX): the sinc zeros of the log
+    spectrum of a copy area-averaged to a short side of at most ``window`` px, whitened by its
+    radial mean, searched by Radon projection (3° grid within 12° of the coarse direction,
+    refined to 0.1°) and fitted by log sinc^2(L r / N) (L on a 0.5 px grid, refined to
     0.02 px); kept when it agrees with the coarse estimate (length within half, direction within
     20°), which rejects the zeros of content or noise.
 
@@ -528,7 +535,13 @@ def estimate_motion_blur(image: np.ndarray, window: int = 256) -> BlurEstimate:
     coarse = max(float(features.values @ coefficients[:-1] + coefficients[-1]), 0.0)
     length, angle = coarse * features.scale, features.angle_deg
     if length >= SINC_MIN_PX and min(np.shape(image)[:2]) >= 64:
-        direction, fine, fit = _analyse(to_gray(image), window)
+        gray = to_gray(image)
+        factor = max(1.0, min(gray.shape) / window)  # one tile is enough: average down to it
+        if factor > 1.0:
+            size = (round(gray.shape[1] / factor), round(gray.shape[0] / factor))
+            gray = cv2.resize(gray, size, interpolation=cv2.INTER_AREA)
+        direction, fine, fit = _analyse(gray, window, around_deg=-angle % 180.0)
+        fine *= factor
         fine_angle = float(np.degrees(np.arctan2(-np.sin(direction), np.cos(direction))) % 180.0)
         turn = abs(fine_angle - angle) % 180.0
         if abs(fine - length) <= 0.5 * length and min(turn, 180.0 - turn) <= 20.0:
