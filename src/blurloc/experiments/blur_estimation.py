@@ -20,16 +20,11 @@ from ..blur import (
 )
 from ..data.sevenscenes import list_scenes, load_split, read_depth, read_image
 from ..data.stats import read_blur_metadata
+from ..evaluation import angle_error_deg
 from ..geometry import intrinsics, rotation_angle_deg
 
 #: Estimated lengths below this (px) are reported as sharp (the deblurring pipeline's cut).
 SHARP_BELOW_PX = 1.5
-
-
-def angle_error_deg(a: float | np.ndarray, b: float | np.ndarray) -> np.ndarray:
-    """Smallest difference between two line directions (degrees, modulo 180)."""
-    difference = np.abs(np.asarray(a) - np.asarray(b)) % 180.0
-    return np.minimum(difference, 180.0 - difference)
 
 
 def _frames(root: str | os.PathLike, split: str, every: int = 1) -> list[tuple[dict, object]]:
