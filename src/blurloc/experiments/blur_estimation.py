@@ -112,8 +112,8 @@ def estimation_summary(rows: list[dict]) -> list[dict]:
                 "frames": int(values.size), "met": bool(values.size and met(value))}  # fmt: skip
 
     return [
-        row("Spearman(estimated length, recorded extent)", np.arange(1),
-            lambda _: spearmanr(length, extent).statistic, ">= 0.8", lambda v: v >= 0.8),
+        row("Spearman(estimated length, recorded extent)", length,
+            lambda v: spearmanr(v, extent).statistic, ">= 0.8", lambda v: v >= 0.8),
         row("median length error (px), extent >= 2 px", length_error[extent >= 2], np.median,
             "<= 1", lambda v: v <= 1),
         row("median angle error (deg), extent >= 4 px", angle_error[extent >= 4], np.median,
