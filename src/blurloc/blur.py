@@ -346,10 +346,11 @@ _ANGLES, _RADII = 36, 14  # polar bins of the half-plane spectrum: 5° sectors, 
 _BANDS = ((0, 4), (4, 8), (8, 11), (11, 14))  # rings averaged into four frequency bands
 #: Ridge coefficients (12 band features of :func:`blur_features`, then the intercept) mapping the
 #: features to the blur extent in px at the analysis scale. Fitted by :func:`fit_length_model`
-#: (ridge 1.0) on the stand-in's training split (7 scenes, 390 frames at 160x120, seed 0);
+#: (ridge 1.0) on training sequences of the stand-in (7 scenes x 4 sequences of 60 frames, stairs
+#: 30, at 160x120, seed 0: 1560 frames);
 #: notebook 01 refits them and compares.
-LENGTH_COEFFICIENTS = (2.1729, 0.0132, -0.3760, 0.3158, -2.0584, -0.1801, 0.8445, -0.5714, -0.2389,
-                       1.5929, -0.7400, -1.1186, 2.6142)  # fmt: skip
+LENGTH_COEFFICIENTS = (2.2423, -0.6516, -0.2058, 0.2236, -2.0666, 0.3014, 0.3027, -0.2706,
+                       -4.5484, 2.3547, -0.4720, -1.4669, 2.0064)  # fmt: skip
 #: Coarse estimates at least this long (px of the image given) are refined from the sinc zeros.
 SINC_MIN_PX = 6.0
 
