@@ -245,8 +245,9 @@ def calibrate_blur_threshold(scores: np.ndarray, blurred: np.ndarray) -> float:
 
 @dataclass(frozen=True)
 class BlurEstimate:
-    """Blind estimate of linear motion blur: ``length_px`` at ``angle_deg`` (module conventions)
-    and ``fit``, the correlation of the spectrum's profile with the sinc model (1 = perfect)."""
+    """Blind estimate of motion blur: ``length_px`` at ``angle_deg`` (module conventions) and
+    ``fit``, the correlation of the spectrum's profile with the sinc model (1 = perfect) when the
+    length was refined from the sinc zeros, else 0."""
 
     length_px: float
     angle_deg: float
@@ -305,11 +306,9 @@ def _sinc_fit(r: np.ndarray, profile: np.ndarray, size: int) -> tuple[float, flo
     return float(lengths[int(np.argmax(fits))]), float(fits.max())
 
 
-def _analyse(
-    gray: np.ndarray, window: int, around_deg: float | None = None
-) -> tuple[float, float, float]:
+def _analyse(gray: np.ndarray, window: int, around_deg: float) -> tuple[float, float, float]:
     """Direction (rad, x right / y down), length (px) and sinc-fit correlation. The direction is
-    searched over all angles, or within 12° of ``around_deg`` (same convention) when given."""
+    searched within 12° of ``around_deg`` (degrees, same convention)."""
     spectrum = log_power_spectrum(gray, window)
     size = spectrum.shape[0]
     whitened, fx, fy = _whiten(spectrum)
@@ -324,9 +323,7 @@ def _analyse(
 
     best = None
     for level, step in enumerate(_ANGLE_STEPS_DEG):
-        if best is None and around_deg is None:
-            candidates = np.arange(0.0, 180.0, step)
-        elif best is None:
+        if best is None:
             candidates = around_deg + np.arange(-12.0, 12.0 + 1e-9, step)
         else:
             span = _ANGLE_STEPS_DEG[level - 1]
