@@ -59,10 +59,10 @@ def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
     gain = (response(kernel_to_otf(kernel, shape)) * scale).astype(np.complex64)
     padded = cv2.copyMakeBorder(image, pad, shape[0] - height - pad, pad, shape[1] - width - pad,
                                 cv2.BORDER_REFLECT_101).astype(np.float32)  # fmt: skip
-    planes = np.stack(cv2.split(padded)) if image.ndim == 3 else padded  # channels first
+    planes = np.ascontiguousarray(np.moveaxis(padded, -1, 0)) if image.ndim == 3 else padded
     restored = scipy.fft.irfft2(scipy.fft.rfft2(planes, workers=-1) * gain, s=shape, workers=-1)
     restored = restored[..., pad : pad + height, pad : pad + width]
-    return (cv2.merge(list(restored)) if image.ndim == 3 else restored).astype(np.float64)
+    return (np.moveaxis(restored, 0, -1) if image.ndim == 3 else restored).astype(np.float64)
 
 
 def wiener_deconvolve(
