@@ -504,7 +504,8 @@ def estimate_motion_blur(image: np.ndarray, window: int = 256) -> BlurEstimate:
     spectrum of a copy area-averaged to a short side of at most ``window`` px, whitened by its
     radial mean, searched by Radon projection (3° grid within 12° of the coarse direction,
     refined to 0.1°) and fitted by log sinc^2(L r / N) (L on a 0.5 px grid, refined to
-    0.02 px); kept when it agrees with the coarse estimate (length within half, direction within
+    0.02 px); kept when it agrees with the coarse estimate (half to four times its length, since
+    the coarse model, fitted on blur up to about 10 px, underestimates long blur; direction within
     20°), which rejects the zeros of content or noise.
 
     Parameters
@@ -542,6 +543,6 @@ def estimate_motion_blur(image: np.ndarray, window: int = 256) -> BlurEstimate:
         fine *= factor
         fine_angle = float(np.degrees(np.arctan2(-np.sin(direction), np.cos(direction))) % 180.0)
         turn = abs(fine_angle - angle) % 180.0
-        if abs(fine - length) <= 0.5 * length and min(turn, 180.0 - turn) <= 20.0:
+        if 0.5 * length <= fine <= 4.0 * length and min(turn, 180.0 - turn) <= 20.0:
             return BlurEstimate(length_px=fine, angle_deg=fine_angle, fit=fit)
     return BlurEstimate(length_px=length, angle_deg=angle, fit=0.0)
