@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 import pytest
 import skimage.data
+from scipy.stats import spearmanr
 
 from blurloc.blur import (
+    LENGTH_COEFFICIENTS,
+    blur_features,
     blur_image,
     estimate_motion_blur,
+    fit_length_model,
     log_power_spectrum,
     motion_kernel,
     to_gray,
@@ -95,6 +100,40 @@ def test_blind_estimate_of_linear_blur(noise: float) -> None:
     assert np.median(length_errors) <= 1.0
 
 
+def test_small_trajectory_blur_in_small_frames() -> None:
+    """Slightly bent camera paths of 2-10 px on 160x120 photographs, noise σ = 0.01, 8 bits."""
+    rng = np.random.default_rng(1)
+    names = ("astronaut", "coffee", "chelsea", "rocket", "brick", "gravel")
+    extents, lengths, angle_errors = [], [], []
+    for index in range(18):
+        photo = getattr(skimage.data, names[index % len(names)])()
+        photo = photo if photo.ndim == 3 else np.dstack([photo] * 3)
+        frame = cv2.resize(photo, (160, 120), interpolation=cv2.INTER_AREA) / 255.0
+        length, angle = rng.uniform(2, 10), rng.uniform(0, 180)
+        t = np.linspace(-0.5, 0.5, 20)
+        path = length * np.column_stack([t * np.cos(np.radians(angle)),
+                                         -t * np.sin(np.radians(angle)) + 0.1 * t**2])  # fmt: skip
+        blurred = blur_image(frame, trajectory_kernel(path), 0.01, rng=rng)
+        estimate = estimate_motion_blur(np.round(np.clip(blurred, 0, 1) * 255).astype(np.uint8))
+        extents.append(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
+        lengths.append(estimate.length_px)
+        angle_errors.append(angle_error_deg(estimate.angle_deg, angle))
+    assert np.median(np.abs(np.subtract(lengths, extents))) <= 1.0
+    assert np.median(angle_errors) <= 10.0
+    assert spearmanr(lengths, extents).statistic >= 0.6
+
+
+def test_length_model_fit_recovers_a_linear_rule() -> None:
+    rng = np.random.default_rng(0)
+    features = rng.normal(size=(200, 12))
+    truth = np.append(rng.normal(size=12), 3.0)
+    extents = features @ truth[:-1] + truth[-1]
+    np.testing.assert_allclose(fit_length_model(features, extents, ridge=1e-6), truth, atol=1e-4)
+    shrunk = fit_length_model(features, extents, ridge=1e3)
+    assert np.linalg.norm(shrunk[:-1]) < 0.5 * np.linalg.norm(truth[:-1])
+    assert len(LENGTH_COEFFICIENTS) == blur_features(np.zeros((120, 160))).values.size + 1
+
+
 @pytest.mark.parametrize(
     ("call", "message"),
     [
@@ -107,6 +146,7 @@ def test_blind_estimate_of_linear_blur(noise: float) -> None:
         (lambda: blur_image(np.ones((0, 5)), np.ones((1, 1))), "at least 2x2"),
         (lambda: blur_image(np.ones((8, 8), np.int64), motion_kernel(3, 0)), "unsupported dtype"),
         (lambda: blur_image(np.ones((8, 8)), motion_kernel(3, 0), boundary="zero"), "boundary"),
+        (lambda: estimate_motion_blur(np.ones((10, 500))), "too small"),
     ],
     ids=[
         "zero-length",
@@ -118,6 +158,7 @@ def test_blind_estimate_of_linear_blur(noise: float) -> None:
         "empty",
         "int64",
         "bad-boundary",
+        "too-small-to-estimate",
     ],
 )
 def test_bad_input_is_refused(call, message: str) -> None:

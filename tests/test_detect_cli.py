@@ -128,6 +128,26 @@ def test_cli_blur_estimate(images: Path, capsys: pytest.CaptureFixture) -> None:
     assert abs(lines[0]["length_px"] - 11) < 1.0 and abs(lines[0]["angle_deg"] - 30) < 2.0
 
 
+@pytest.mark.parametrize("shape", [(8, 8), (10, 10000), (16, 16), (16, 300)])
+@pytest.mark.parametrize("flat", [False, True])
+def test_cli_blur_estimate_prints_valid_json_for_any_size(
+    shape: tuple[int, int], flat: bool, tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    rng = np.random.default_rng(0)
+    image = np.full((*shape, 3), 128, np.uint8) if flat else rng.integers(0, 256, (*shape, 3))
+    path = tmp_path / "image.png"
+    cv2.imwrite(str(path), image.astype(np.uint8))
+    assert main(["blur-estimate", str(path)]) == 0
+
+    def refuse(constant: str) -> None:
+        raise AssertionError(f"invalid JSON constant {constant}")
+
+    line = json.loads(capsys.readouterr().out, parse_constant=refuse)
+    measured = min(shape) >= 16
+    for key in ("score", "length_px", "angle_deg"):
+        assert (line[key] is not None) == measured, (key, line)
+
+
 def test_cli_deblur_file_and_folder(images: Path, tmp_path: Path) -> None:
     out = tmp_path / "out.png"
     assert main(["deblur", str(images / "blurred.png"), str(out),

@@ -63,11 +63,15 @@ def _run_notebooks(args: argparse.Namespace) -> int:
 
 
 def _blur_estimate(args: argparse.Namespace) -> int:
-    from .blur import detect_blur, estimate_motion_blur
+    from .blur import MIN_ANALYSIS_SIDE, detect_blur, estimate_motion_blur
     from .data import read_image
 
     for name in args.images:
         image = read_image(name)
+        if min(image.shape[:2]) < MIN_ANALYSIS_SIDE:  # readable, but nothing to measure: null
+            print(json.dumps({"path": name, "blurred": None, "score": None, "length_px": None,
+                              "angle_deg": None, "note": f"smaller than {MIN_ANALYSIS_SIDE} px"}))
+            continue
         try:
             blurred, score = detect_blur(image)
             estimate = estimate_motion_blur(image)

@@ -1,0 +1,262 @@
+"""Where Wiener deconvolution loses on camera frames: oracle runs that swap one ingredient at a
+time (the kernel, the intensity space, the NSR) for the truth, the fit of the NSR rule, and the
+per-scene comparison with the paper's Fig. 6-7."""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Iterable
+from dataclasses import fields
+from pathlib import Path
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+from scipy.stats import linregress
+from tqdm.auto import tqdm
+
+from ..blur import blur_image, estimate_noise_sigma, motion_kernel, trajectory_kernel
+from ..data.render import linear_to_srgb, srgb_to_linear
+from ..data.sevenscenes import list_scenes, load_split, read_depth, read_image
+from ..data.stats import read_blur_metadata
+from ..data.synth import STANDIN_MANIFEST, SynthConfig, exposure_tracks, sequence_trajectory
+from ..deconv import blind_kernel, estimate_nsr, wiener_deconvolve
+from ..geometry import intrinsics
+from ..images import as_float_image
+from ..metrics import psnr, ssim
+from ..paper import paper_values
+
+#: The runs, each (kernel, intensity space, NSR): one ingredient changes between neighbours.
+VARIANTS = {
+    "blind": ("estimated line", "gamma", "rule"),
+    "line_rule": ("recorded line", "gamma", "rule"),
+    "line_best": ("recorded line", "gamma", "best"),
+    "path_rule": ("true path", "gamma", "rule"),
+    "path_best": ("true path", "gamma", "best"),
+    "path_linear_rule": ("true path", "linear", "rule"),
+    "path_linear_best": ("true path", "linear", "best"),
+}
+
+
+def best_nsr(
+    blurred: np.ndarray, sharp: np.ndarray, kernel: np.ndarray, linear: bool = False
+) -> tuple[float, float]:
+    """The NSR of eq. 4 that gives the best PSNR against the truth (an oracle), searched in
+    log10(NSR) from -5 to 0 by bounded scalar minimisation.
+
+    Parameters
+    ----------
+    blurred, sharp : np.ndarray
+        (H, W) or (H, W, 3) float images in [0, 1] (gamma-encoded).
+    kernel : np.ndarray
+        Blur kernel (sums to 1).
+    linear : bool
+        Deconvolve in linear light (undo gamma 2.2, deconvolve, re-apply).
+
+    Returns
+    -------
+    tuple of float
+        The best NSR and its PSNR (dB, data range 1).
+    """
+    def loss(log_nsr: float) -> float:
+        return -psnr(sharp, _restore(blurred, kernel, 10.0**log_nsr, linear), 1.0)
+
+    found = minimize_scalar(loss, bounds=(-5.0, 0.0), method="bounded", options={"xatol": 0.05})
+    return float(10.0**found.x), float(-found.fun)
+
+
+def _restore(
+    blurred: np.ndarray, kernel: np.ndarray, nsr: float | None, linear: bool
+) -> np.ndarray:
+    """Wiener (eq. 4) in gamma-encoded or linear intensities, clipped to [0, 1]."""
+    if not linear:
+        return np.clip(wiener_deconvolve(blurred, kernel, nsr), 0.0, 1.0)
+    light = srgb_to_linear(blurred)
+    return linear_to_srgb(np.clip(wiener_deconvolve(light, kernel, nsr), 0.0, 1.0))
+
+
+def fit_nsr_rule(
+    crops: Iterable[np.ndarray],
+    lengths: Iterable[float],
+    noise_sigmas: Iterable[float],
+    seed: int = 0,
+) -> tuple[float, float, list[dict]]:
+    """Fit the NSR rule NSR = a * sigma^b of :func:`blurloc.deconv.estimate_nsr` on photographs.
+
+    Every crop is blurred by a line kernel of each length at a random angle, noise of each sigma
+    is added, and the PSNR-best NSR (:func:`best_nsr`) is found; log(best NSR) is regressed on
+    log(sigma estimated from the blurred crop), as the rule sees it.
+
+    Parameters
+    ----------
+    crops : iterable of np.ndarray
+        Gray (H, W) float crops in [0, 1].
+    lengths : iterable of float
+        Blur lengths, px.
+    noise_sigmas : iterable of float
+        Gaussian noise sigmas on [0, 1] intensities.
+    seed : int
+        Seed of the angles and the noise.
+
+    Returns
+    -------
+    tuple
+        ``a`` (NSR_COEFFICIENT), ``b`` (NSR_EXPONENT) and one row per trial (length_px,
+        noise_sigma, estimated_sigma, best_nsr, best_psnr_db, rule_psnr_db).
+    """
+    rng = np.random.default_rng(seed)
+    rows = []
+    for crop in crops:
+        for length in lengths:
+            for sigma in noise_sigmas:
+                kernel = motion_kernel(length, rng.uniform(0, 180))
+                blurred = blur_image(crop, kernel, sigma, rng=rng)
+                nsr, value = best_nsr(blurred, crop, kernel)
+                rule = psnr(crop, _restore(blurred, kernel, None, False), 1.0)
+                rows.append({"length_px": float(length), "noise_sigma": float(sigma),
+                             "estimated_sigma": estimate_noise_sigma(blurred), "best_nsr": nsr,
+                             "best_psnr_db": value, "rule_psnr_db": rule})  # fmt: skip
+    if len({r["noise_sigma"] for r in rows}) < 2:
+        raise ValueError("the fit needs at least two noise levels")
+    line = linregress(np.log([r["estimated_sigma"] for r in rows]),
+                      np.log([r["best_nsr"] for r in rows]))  # fmt: skip
+    return float(np.exp(line.intercept)), float(line.slope), rows
+
+
+def standin_settings(root: str | os.PathLike) -> tuple[SynthConfig, int]:
+    """The settings and seed a stand-in root was rendered with (from its manifest)."""
+    path = Path(root) / STANDIN_MANIFEST
+    if not path.is_file():
+        raise ValueError(f"{path}: missing; the oracle runs need a rendered stand-in")
+    manifest = json.loads(path.read_text())
+    if "config" not in manifest:
+        raise ValueError(f"{path}: the stand-in is incomplete")
+    settings = {k: v for k, v in manifest["config"].items()
+                if k in {f.name for f in fields(SynthConfig)}}  # fmt: skip
+    settings["sequence_counts"] = {k: tuple(v) for k, v in settings["sequence_counts"].items()}
+    return SynthConfig(**settings), int(manifest["seed"])
+
+
+def exposure_kernel(tracks: np.ndarray) -> np.ndarray:
+    """The frame's true blur kernel, averaged over the image: the mean over points of each
+    point's path kernel, centred on its mid-exposure position (so the mid-exposure sharp frame
+    maps to the blurred one without a shift).
+
+    Parameters
+    ----------
+    tracks : np.ndarray
+        (samples, points, 2) image positions (px, x right, y down) of scene points over the
+        exposure, e.g. :func:`blurloc.data.synth.exposure_tracks`; ``samples`` odd.
+
+    Returns
+    -------
+    np.ndarray
+        The kernel (odd square, sums to 1).
+    """
+    middle = tracks[tracks.shape[0] // 2]
+    reach = np.abs(tracks - middle[None]).max()
+    size = 2 * int(np.ceil(reach + 1)) + 1
+    kernels = [trajectory_kernel(tracks[:, p], size, origin=middle[p])
+               for p in range(tracks.shape[1])]  # fmt: skip
+    return np.mean(kernels, axis=0)
+
+
+def oracle_rows(
+    root: str | os.PathLike, split: str = "test", every: int = 1, progress: bool = False
+) -> list[dict]:
+    """Wiener deconvolution of every ``every``-th stand-in frame of ``split`` in each of
+    VARIANTS, scored against the sharp mid-exposure render.
+
+    Returns
+    -------
+    list of dict
+        One row per frame and variant (plus ``blurred``): scene, sequence, frame, extent_px,
+        variant, kernel, space, nsr_source, nsr, psnr_db, ssim.
+    """
+    config, seed = standin_settings(root)
+    records = {(r["scene"], r["sequence"], r["frame"]): r for r in read_blur_metadata(root)}
+    camera = intrinsics(config.width, config.height)
+    jobs = [(scene, sequence, frame) for scene in list_scenes(root)
+            for sequence in load_split(root, scene, split)
+            for frame in sequence.frame_ids[::every]]  # fmt: skip
+    rows, paths = [], {}
+    for scene, sequence, frame in tqdm(jobs, disable=not progress, desc=f"oracles {split}"):
+        if (scene, sequence.number) not in paths:
+            paths[(scene, sequence.number)] = sequence_trajectory(scene, sequence.number,
+                                                                  config, seed)  # fmt: skip
+        world, trajectory = paths[(scene, sequence.number)]
+        record = records[(scene, sequence.number, frame)]
+        blurred = as_float_image(read_image(sequence.path(frame, "color")))
+        sharp = as_float_image(read_image(sequence.path(frame, "sharp")))
+        tracks = exposure_tracks(world, trajectory, frame / config.fps, config, camera,
+                                 read_depth(sequence.path(frame, "depth")), samples=17)  # fmt: skip
+        kernels = {"estimated line": blind_kernel(blurred),
+                   "recorded line": motion_kernel(max(record["mean_px"], 0.1),
+                                                  record["angle_deg"]),
+                   "true path": exposure_kernel(tracks)}  # fmt: skip
+        base = {"scene": scene, "sequence": sequence.number, "frame": frame,
+                "extent_px": record["mean_px"]}  # fmt: skip
+        rows.append({**base, "variant": "blurred", "kernel": "none", "space": "gamma",
+                     "nsr_source": "none", "nsr": 0.0, "psnr_db": psnr(sharp, blurred, 1.0),
+                     "ssim": ssim(sharp, blurred, 1.0)})  # fmt: skip
+        for name, (kernel_name, space, source) in VARIANTS.items():
+            kernel, linear = kernels[kernel_name], space == "linear"
+            if kernel is None:  # judged sharp: passed through
+                nsr, restored = 0.0, blurred
+            elif source == "best":
+                nsr = best_nsr(blurred, sharp, kernel, linear)[0]
+                restored = _restore(blurred, kernel, nsr, linear)
+            else:
+                nsr = estimate_nsr(srgb_to_linear(blurred) if linear else blurred)
+                restored = _restore(blurred, kernel, nsr, linear)
+            rows.append({**base, "variant": name, "kernel": kernel_name, "space": space,
+                         "nsr_source": source, "nsr": nsr, "psnr_db": psnr(sharp, restored, 1.0),
+                         "ssim": ssim(sharp, restored, 1.0)})  # fmt: skip
+    return rows
+
+
+def oracle_summary(rows: list[dict]) -> list[dict]:
+    """Per variant of :func:`oracle_rows`: frames, mean PSNR and SSIM, and the mean paired
+    PSNR change (dB) against the blurred input, with its 95 % interval (t, over frames)."""
+    from scipy.stats import t as student
+
+    blurred = {(r["scene"], r["sequence"], r["frame"]): r["psnr_db"] for r in rows
+               if r["variant"] == "blurred"}  # fmt: skip
+    table = []
+    for variant in ["blurred", *VARIANTS]:
+        subset = [r for r in rows if r["variant"] == variant]
+        gains = np.array([r["psnr_db"] - blurred[(r["scene"], r["sequence"], r["frame"])]
+                          for r in subset])  # fmt: skip
+        half = (student.ppf(0.975, len(gains) - 1) * gains.std(ddof=1) / np.sqrt(len(gains))
+                if len(gains) > 1 else float("nan"))  # fmt: skip
+        first = subset[0]
+        table.append({"variant": variant, "kernel": first["kernel"], "space": first["space"],
+                      "nsr": first["nsr_source"], "frames": len(subset),
+                      "psnr_db": round(float(np.mean([r["psnr_db"] for r in subset])), 2),
+                      "ssim": round(float(np.mean([r["ssim"] for r in subset])), 4),
+                      "gain_db": round(float(gains.mean()), 2),
+                      "gain_ci95_db": round(float(half), 2)})  # fmt: skip
+    return table
+
+
+def per_scene_table(rows: list[dict]) -> list[dict]:
+    """Per scene (and their mean): PSNR and SSIM of the blurred input, blind Wiener and the
+    oracle-kernel Wiener (true path, linear light, best NSR), beside the paper's Fig. 6-7
+    values (labelled ``paper_``; printed numbers, not measured here)."""
+    paper_psnr, paper_ssim = paper_values("fig6", "psnr_db"), paper_values("fig7", "ssim")
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    table = []
+    for scene in [*scenes, "mean"]:
+        row = {"scene": scene}
+        for variant, label in (("blurred", "blurred"), ("blind", "blind_wiener"),
+                               ("path_linear_best", "oracle_wiener")):  # fmt: skip
+            for metric in ("psnr_db", "ssim"):
+                per_scene = [np.mean([r[metric] for r in rows
+                                      if r["variant"] == variant and r["scene"] == s])
+                             for s in (scenes if scene == "mean" else [scene])]  # fmt: skip
+                row[f"{label}_{metric}"] = round(float(np.mean(per_scene)), 4)
+        for metric, printed in (("psnr_db", paper_psnr), ("ssim", paper_ssim)):
+            value = np.mean(list(printed.values())) if scene == "mean" else printed.get(scene)
+            row[f"paper_{metric}"] = None if value is None else round(float(value), 4)
+        table.append(row)
+    return table

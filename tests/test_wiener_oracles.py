@@ -1,0 +1,88 @@
+"""The Wiener oracle runs on stand-in frames, the NSR rule's fit, and the estimation tables."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from blurloc.blur import blur_image
+from blurloc.data import load_split, read_image
+from blurloc.data.render import linear_to_srgb, srgb_to_linear
+from blurloc.data.sevenscenes import read_depth
+from blurloc.data.synth import exposure_tracks, sequence_trajectory
+from blurloc.deconv import NSR_COEFFICIENT, NSR_EXPONENT
+from blurloc.evaluation import photo_crops
+from blurloc.experiments.blur_estimation import estimation_rows, estimation_summary
+from blurloc.experiments.wiener_oracles import (
+    VARIANTS,
+    exposure_kernel,
+    fit_nsr_rule,
+    oracle_rows,
+    oracle_summary,
+    per_scene_table,
+    standin_settings,
+)
+from blurloc.geometry import intrinsics
+from blurloc.images import as_float_image
+from blurloc.metrics import psnr
+
+
+def test_nsr_rule_fit_on_photographs() -> None:
+    crops = [crop[::2, ::2] for crop in photo_crops(3, 256, seed=1)]
+    a, b, rows = fit_nsr_rule(crops, [6.0, 10.0], [0.005, 0.02], seed=0)
+    assert len(rows) == 12
+    assert all(r["best_psnr_db"] >= r["rule_psnr_db"] - 0.05 for r in rows)  # an oracle
+    assert 0.3 < b < 1.2  # more noise, more regularisation
+    shipped = NSR_COEFFICIENT * 0.01**NSR_EXPONENT
+    assert shipped / 2.5 < a * 0.01**b < shipped * 2.5
+    with pytest.raises(ValueError, match="two noise levels"):
+        fit_nsr_rule(crops[:1], [6.0], [0.01])
+
+
+def test_true_path_kernel_explains_the_blurred_frame(quick_root: Path) -> None:
+    config, seed = standin_settings(quick_root)
+    sequence = load_split(quick_root, "chess", "test")[0]
+    world, trajectory = sequence_trajectory("chess", sequence.number, config, seed)
+    camera = intrinsics(config.width, config.height)
+    for frame in sequence.frame_ids[:3]:
+        sharp = as_float_image(read_image(sequence.path(frame, "sharp")))
+        blurred = as_float_image(read_image(sequence.path(frame, "color")))
+        tracks = exposure_tracks(world, trajectory, frame / config.fps, config, camera,
+                                 read_depth(sequence.path(frame, "depth")), samples=17)  # fmt: skip
+        kernel = exposure_kernel(tracks)
+        assert kernel.sum() == pytest.approx(1.0)
+        reblurred = linear_to_srgb(np.clip(blur_image(srgb_to_linear(sharp), kernel), 0, 1))
+        mirrored = linear_to_srgb(np.clip(blur_image(srgb_to_linear(sharp), kernel[::-1, ::-1]),
+                                          0, 1))  # fmt: skip
+        assert psnr(blurred, reblurred, 1.0) >= psnr(blurred, sharp, 1.0) + 1.0
+        assert psnr(blurred, reblurred, 1.0) >= psnr(blurred, mirrored, 1.0) - 0.1
+
+
+def test_oracle_rows_and_tables(quick_root: Path) -> None:
+    rows = oracle_rows(quick_root, "test", every=4)
+    frames = {(r["scene"], r["frame"]) for r in rows}
+    assert len(frames) == 3  # chess frames 0 and 4, stairs (half as long) frame 0
+    assert len(rows) == len(frames) * (len(VARIANTS) + 1)
+    for key in frames:
+        by = {r["variant"]: r for r in rows if (r["scene"], r["frame"]) == key}
+        for kernel in ("line", "path", "path_linear"):  # the best NSR is an oracle
+            assert by[f"{kernel}_best"]["psnr_db"] >= by[f"{kernel}_rule"]["psnr_db"] - 0.05
+    summary = oracle_summary(rows)
+    assert [r["variant"] for r in summary] == ["blurred", *VARIANTS]
+    assert summary[0]["gain_db"] == 0.0
+    table = per_scene_table(rows)
+    assert [r["scene"] for r in table] == ["chess", "stairs", "mean"]
+    assert table[0]["paper_psnr_db"] == pytest.approx(29.76)
+    assert table[-1]["blurred_psnr_db"] == pytest.approx(
+        np.mean([table[0]["blurred_psnr_db"], table[1]["blurred_psnr_db"]]), abs=1e-3)
+
+
+def test_estimation_rows_against_recorded_blur(quick_root: Path) -> None:
+    rows = estimation_rows(quick_root, "test")
+    assert len(rows) == 12  # 8 chess frames, 4 stairs frames
+    assert all(0 <= r["estimated_angle_deg"] < 180 and r["estimated_length_px"] >= 0 for r in rows)
+    summary = {r["measure"]: r for r in estimation_summary(rows)}
+    assert summary["median angle error (deg), extent >= 4 px"]["target"] == "<= 10"
+    assert all(isinstance(r["met"], bool) for r in summary.values())
