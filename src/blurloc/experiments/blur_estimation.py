@@ -20,8 +20,8 @@ from ..blur import (
 )
 from ..data.sevenscenes import list_scenes, load_split, read_depth, read_image
 from ..data.stats import read_blur_metadata
-from ..evaluation import angle_error_deg
 from ..geometry import intrinsics, rotation_angle_deg
+from .estimation import angle_error_deg
 
 #: Estimated lengths below this (px) are reported as sharp (the deblurring pipeline's cut).
 SHARP_BELOW_PX = 1.5
