@@ -39,6 +39,24 @@ def ssim(reference: np.ndarray, estimate: np.ndarray, data_range: float) -> floa
     ))  # fmt: skip
 
 
+def mean_frame_psnr(pairs: list[tuple[np.ndarray, np.ndarray]]) -> float:
+    """Mean PSNR (eq. 6, data range 255) over every frame of several videos.
+
+    Parameters
+    ----------
+    pairs : list of (video, reference video)
+        uint8 (T, H, W, 3) arrays of the same shape per pair (restored or blurred first, sharp
+        second).
+
+    Returns
+    -------
+    float
+        The mean over all frames of all pairs, dB.
+    """
+    return float(np.mean([psnr(truth, frame, 255.0) for video, sharp in pairs
+                          for frame, truth in zip(video, sharp, strict=True)]))  # fmt: skip
+
+
 def position_errors(true_positions: np.ndarray, estimated_positions: np.ndarray) -> np.ndarray:
     """Eq. 12: Euclidean distance ||C_est - C_gt||_2 per frame (metres). Arrays (N, 3)."""
     true_positions = np.asarray(true_positions, float)

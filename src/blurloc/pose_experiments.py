@@ -12,8 +12,10 @@ from tqdm.auto import tqdm
 
 from .data.sevenscenes import load_split
 from .geometry import rotation_to_quaternion
+from .inference import load_pose_model, predict_poses
 from .metrics import combined_errors, pose_summary, position_errors, quaternion_errors_deg
-from .train import PoseTrainConfig, load_pose_model, predict_poses, train_pose
+from .train.config import PoseTrainConfig
+from .train.pose import train_pose
 
 CONDITIONS = ("blurred", "wiener", "rnn", "sharp")
 
@@ -46,8 +48,9 @@ def run_pose_matrix(
         history = train_pose(roots[condition], scene, folder, run_config, progress=False)
         model, _ = load_pose_model(folder / "best.pt")
         test = load_split(roots[condition], scene, "test")
-        positions, quaternions, true_positions, true_quaternions = predict_poses(
-            model, test, run_config)
+        pair = predict_poses(model, test, run_config)
+        positions, quaternions = pair.estimate_positions, pair.estimate_quaternions
+        true_positions, true_quaternions = pair.reference_positions, pair.reference_quaternions
         summary = pose_summary(true_positions, true_quaternions, positions, quaternions,
                                config.beta)  # fmt: skip
         row = {"scene": scene, "condition": condition, "head": head,
@@ -89,9 +92,11 @@ def predict_test_frames(model_path: str | os.PathLike, root: str | os.PathLike,
     each frame's identity: ``frames`` [(sequence, frame id)], ``position``, ``quaternion``, the
     true ``true_position``/``true_quaternion``, and per-frame ``position_error`` (m, eq. 12) and
     ``orientation_error`` (degrees, eq. 13); rows in sequence order, then frame order."""
-    model, config = load_pose_model(model_path)
+    model, config = load_pose_model(model_path, scene=scene)
     sequences = load_split(root, scene, "test")
-    position, quaternion, true_position, true_quaternion = predict_poses(model, sequences, config)
+    pair = predict_poses(model, sequences, config)
+    position, quaternion = pair.estimate_positions, pair.estimate_quaternions
+    true_position, true_quaternion = pair.reference_positions, pair.reference_quaternions
     return {"frames": [(s, frame) for s in sequences for frame in s.frame_ids],
             "position": position, "quaternion": quaternion,
             "true_position": true_position, "true_quaternion": true_quaternion,

@@ -1,0 +1,1 @@
+"""Notebook-scale experiments, each returning tables (lists of dicts) for the notebooks."""
