@@ -9,6 +9,7 @@ only: a crafted file cannot run code) and must carry the format tag of its kind
 from __future__ import annotations
 
 import os
+import pickle
 import warnings
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -78,10 +79,17 @@ def load_checkpoint(
     if path.stat().st_size == 0:
         raise ValueError(f"{path}: checkpoint file is empty")
     try:
-        payload = torch.load(path, map_location=device, weights_only=True)
-    except Exception as error:  # torch raises several types for damaged or unsafe files
-        reason = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
-        raise ValueError(f"{path}: not a readable checkpoint ({reason})") from None
+        with warnings.catch_warnings():  # torch warns about pickle protocols of foreign files
+            warnings.simplefilter("ignore")
+            payload = torch.load(path, map_location=device, weights_only=True)
+    except pickle.UnpicklingError as error:
+        if "weights only" not in str(error).lower():
+            raise ValueError(f"{path}: not a readable checkpoint (damaged or truncated)") from None
+        raise ValueError(f"{path}: holds objects other than tensors and plain data; refused, "
+                         "since loading it could run code") from None  # fmt: skip
+    except Exception:  # torch raises several types for damaged or foreign files
+        raise ValueError(f"{path}: not a readable checkpoint (damaged, truncated or not a "
+                         "torch file)") from None  # fmt: skip
     tags = {tag: name for name, tag in CHECKPOINT_FORMATS.items()}
     found = tags.get(payload.get("format")) if isinstance(payload, dict) else None
     if found is None or not isinstance(payload.get("model"), dict):
