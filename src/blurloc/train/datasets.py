@@ -98,16 +98,41 @@ def resize_short_side(image: np.ndarray, short_side: int) -> np.ndarray:
 
 
 class PoseSequenceDataset(Dataset):
-    """Windows of ``window`` consecutive frames with their poses, preprocessed as in the paper.
+    """Windows of consecutive frames with their poses, preprocessed as in the paper (Sec. III.E).
 
-    Preprocessing (Sec. III.E): resize so the short side is ``resize`` px, crop ``crop``
-    (an int for a square, or (height, width)) at the centre or at a random place shared by the
-    whole window, and map intensities to [-1, 1]. Windows start every ``stride`` frames inside
-    each sequence. ``kinds`` chooses the images returned (``color``, and ``sharp`` on the
-    stand-in). Each item is a dict of tensors: ``<kind>`` (T, 3, H, W), ``position`` (T, 3),
-    ``quaternion`` (T, 4; w >= 0), ``pose`` (T, 4, 4), and ``sequence``/``frame`` indices.
-    Frames are decoded and resized once, into ``cache`` (a new :class:`FrameCache` unless one
-    is shared, e.g. by the training and validation sets of one run).
+    Frames are resized so the short side is ``resize`` px, cropped at the centre or at a random
+    place shared by the whole window, and mapped to [-1, 1]. Each frame is decoded and resized
+    once, into ``cache``.
+
+    Parameters
+    ----------
+    sequences : sequence of SequenceFrames
+        The sequences windows are cut from (each at least ``window`` frames long).
+    window : int
+        Frames per item, T.
+    stride : int
+        Frames between the starts of consecutive windows inside a sequence.
+    resize : int
+        Short side after resizing, px.
+    crop : int or (int, int) or None
+        Square crop side, or (height, width), px; None keeps the resized frame.
+    random_crop : bool
+        Crop at a random place (torch's generator) instead of the centre.
+    kinds : iterable of str
+        Images returned: ``color``, and ``sharp`` on the stand-in.
+    cache : FrameCache, optional
+        Decoded frames shared with other readers of the same run (a new one when None).
+
+    Notes
+    -----
+    Each item is a dict of tensors: ``<kind>`` (T, 3, H, W) in [-1, 1], ``position`` (T, 3,
+    metres), ``quaternion`` (T, 4; w, x, y, z with w >= 0), ``pose`` (T, 4, 4), and the
+    ``sequence`` and ``frame`` (window start) indices.
+
+    Raises
+    ------
+    DataError
+        If no sequence is given or one is shorter than the window.
     """
 
     def __init__(
