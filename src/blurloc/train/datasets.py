@@ -123,16 +123,16 @@ class PoseSequenceDataset(Dataset):
     cache : FrameCache, optional
         Decoded frames shared with other readers of the same run (a new one when None).
 
+    Raises
+    ------
+    DataError
+        If no sequence is given or one is shorter than the window.
+
     Notes
     -----
     Each item is a dict of tensors: ``<kind>`` (T, 3, H, W) in [-1, 1], ``position`` (T, 3,
     metres), ``quaternion`` (T, 4; w, x, y, z with w >= 0), ``pose`` (T, 4, 4), and the
     ``sequence`` and ``frame`` (window start) indices.
-
-    Raises
-    ------
-    DataError
-        If no sequence is given or one is shorter than the window.
     """
 
     def __init__(

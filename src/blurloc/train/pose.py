@@ -113,7 +113,11 @@ def train_pose(
         return _train(sequences, scene, out_dir, config, device, resumed, progress, stop_after)
 
 
-def _train(sequences, scene, out_dir, config, device, resumed, progress, stop_after) -> dict:
+def _train(
+    sequences: list[SequenceFrames], scene: str, out_dir: Path, config: PoseTrainConfig,
+    device: torch.device, resumed: dict | None, progress: bool, stop_after: int | None,
+) -> dict:  # fmt: skip
+    """The loop of :func:`train_pose`, from scratch or from ``resumed``."""
     seed_everything(config.seed)
     train_sequences, validation = split_validation(sequences)
     cache = FrameCache()

@@ -191,7 +191,11 @@ def train_video_deblur(
         return _train(splits, out_dir, config, device, resumed, progress, stop_after)
 
 
-def _train(splits, out_dir, config, device, resumed, progress, stop_after) -> dict:
+def _train(
+    splits: dict[str, list[Video]], out_dir: Path, config: VideoTrainConfig,
+    device: torch.device, resumed: dict | None, progress: bool, stop_after: int | None,
+) -> dict:  # fmt: skip
+    """The loop of :func:`train_video_deblur`, from scratch or from ``resumed``."""
     seed_everything(config.seed)
     rng = np.random.default_rng(config.seed)
     model = VideoDeblurNet(config.model).to(device)
