@@ -21,9 +21,9 @@ import skimage.data
 import torch
 
 from blurloc.experiments.photo_video import photo_video
+from blurloc.inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_sequence
+from blurloc.metrics import mean_frame_psnr
 from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
-from blurloc.train import load_video_deblur
-from blurloc.video import DEFAULT_CHECKPOINT, mean_frame_psnr, restore_sequence
 
 PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "immunohistochemistry")
 

@@ -12,6 +12,7 @@ import torch
 
 from blurloc.cli import main
 from blurloc.data import load_split
+from blurloc.inference import load_pose_model, predict_poses
 from blurloc.models.pose import (
     LearnedWeighting,
     PoseConfig,
@@ -20,7 +21,8 @@ from blurloc.models.pose import (
     load_encoder_weights,
     pose_loss,
 )
-from blurloc.train import PoseTrainConfig, load_pose_model, predict_poses, train_pose
+from blurloc.train.config import PoseTrainConfig
+from blurloc.train.pose import train_pose
 from blurloc.trajectory import write_tum
 
 
@@ -78,14 +80,16 @@ def test_training_resumes_identically_and_refuses_another_head(
     resumed = train_pose(quick_root, "chess", tmp_path / "b", SMALL, progress=False)
     for key in ("train_loss", "val_position_m", "val_orientation_deg"):
         np.testing.assert_allclose(resumed[key], history[key], rtol=1e-5)
-    with pytest.raises(ValueError, match="head 'lstm', not 'gru'"):
+    with pytest.raises(ValueError, match=r"head: 'lstm' -> 'gru'.*--restart"):
         gru = replace(SMALL, model=PoseConfig(head="gru", hidden=16))
         train_pose(quick_root, "chess", tmp_path / "lstm", gru, progress=False)
     model, config = load_pose_model(tmp_path / "lstm" / "best.pt")
     test = load_split(quick_root, "chess", "test")
-    positions, quaternions, true_positions, _ = predict_poses(model, test, config)
-    assert np.allclose(np.linalg.norm(quaternions, axis=1), 1.0, atol=1e-5)
-    assert positions.shape == true_positions.shape == (sum(len(s) for s in test), 3)
+    pair = predict_poses(model, test, config)
+    assert np.allclose(np.linalg.norm(pair.estimate_quaternions, axis=1), 1.0, atol=1e-5)
+    assert pair.estimate_positions.shape == (sum(len(s) for s in test), 3)
+    truth = np.concatenate([s.poses() for s in test])
+    np.testing.assert_allclose(pair.reference_positions, truth[:, :3, 3], atol=1e-6)
     with pytest.raises(ValueError, match="shorter than the window"):
         predict_poses(model, test, replace(config, window=100))
 

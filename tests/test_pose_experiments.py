@@ -12,7 +12,8 @@ import blurloc.experiments.pose as pose_experiments
 from blurloc.data import load_split
 from blurloc.experiments.pose import condition_roots, mean_pose_baseline, run_pose_matrix
 from blurloc.metrics import ACCURACY_THRESHOLDS
-from blurloc.train import PoseTrainConfig
+from blurloc.poses import PosePair
+from blurloc.train.config import PoseTrainConfig
 
 
 def test_mean_pose_baseline_against_a_hand_computation(quick_root: Path) -> None:
@@ -55,7 +56,7 @@ def test_pose_matrix_rows(
         return {"seconds": [12.34]}
 
     def fake_predict(model, sequences, config):
-        return truth[:, :3, 3] + shift, true_q, truth[:, :3, 3], true_q
+        return PosePair(truth[:, :3, 3], true_q, truth[:, :3, 3] + shift, true_q)
 
     monkeypatch.setattr(pose_experiments, "train_pose", fake_train)
     monkeypatch.setattr(pose_experiments, "load_pose_model", lambda path: (None, None))

@@ -14,7 +14,6 @@ import torch
 from blurloc.cli import main
 from blurloc.data import (
     DataError,
-    PoseSequenceDataset,
     check_data,
     load_split,
     read_image,
@@ -22,6 +21,7 @@ from blurloc.data import (
     read_split,
 )
 from blurloc.geometry import quaternion_to_rotation
+from blurloc.train.datasets import PoseSequenceDataset
 
 
 @pytest.fixture

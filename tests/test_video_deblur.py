@@ -13,22 +13,15 @@ from torch import nn
 
 from blurloc.cli import main
 from blurloc.data import check_data, load_split, read_image
+from blurloc.data.frames import list_frames
 from blurloc.experiments.photo_video import photo_video
 from blurloc.experiments.registration import registered_psnr
+from blurloc.experiments.video import write_deblurred_root
+from blurloc.inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_sequence
+from blurloc.metrics import mean_frame_psnr
 from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
-from blurloc.train import (
-    VideoTrainConfig,
-    load_video_deblur,
-    load_video_splits,
-    train_video_deblur,
-)
-from blurloc.video import (
-    DEFAULT_CHECKPOINT,
-    mean_frame_psnr,
-    read_frame_folder,
-    restore_sequence,
-    write_deblurred_root,
-)
+from blurloc.train.config import VideoTrainConfig
+from blurloc.train.video import load_video_splits, train_video_deblur
 
 SINGLE_FRAME = VideoDeblurConfig(aux_state=False, blending=False, recurrent=False)
 
@@ -116,7 +109,7 @@ def test_bad_checkpoints_and_videos_are_refused(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="missing"):
         load_video_deblur(tmp_path / "none.pt")
     torch.save({"format": "something else"}, tmp_path / "other.pt")
-    with pytest.raises(ValueError, match="not a blurloc video-deblurring checkpoint"):
+    with pytest.raises(ValueError, match="not a blurloc checkpoint"):
         load_video_deblur(tmp_path / "other.pt")
     (tmp_path / "junk.pt").write_bytes(b"junk")
     with pytest.raises(ValueError, match="not a readable checkpoint"):
@@ -179,8 +172,7 @@ def test_deblurred_root_keeps_the_layout(quick_root: Path, tmp_path: Path) -> No
     inverted = 255 - read_image(original.path(frame))
     np.testing.assert_array_equal(read_image(copy.path(frame)), inverted)
     np.testing.assert_array_equal(copy.poses(), original.poses())
-    _, frames = read_frame_folder(copy.folder)
-    assert len(frames) == len(copy)
+    assert len(list_frames(copy.folder)) == len(copy)
 
 
 def test_registered_psnr_finds_a_known_shift() -> None:

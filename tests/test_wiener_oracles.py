@@ -13,8 +13,8 @@ from blurloc.data.render import linear_to_srgb, srgb_to_linear
 from blurloc.data.sevenscenes import read_depth
 from blurloc.data.synth import exposure_tracks, sequence_trajectory
 from blurloc.deconv import NSR_COEFFICIENT, NSR_EXPONENT
-from blurloc.evaluation import photo_crops
 from blurloc.experiments.blur_estimation import estimation_rows, estimation_summary
+from blurloc.experiments.estimation import photo_crops
 from blurloc.experiments.wiener_oracles import (
     VARIANTS,
     exposure_kernel,

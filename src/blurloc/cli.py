@@ -186,14 +186,17 @@ def _deblur(args: argparse.Namespace) -> int:
 def _train_video_deblur(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
-    from .train import VideoTrainConfig, load_video_splits, train_video_deblur
+    from .train.config import VideoTrainConfig
+    from .train.loop import choose_device
+    from .train.video import load_video_splits, train_video_deblur
 
     config = VideoTrainConfig(seed=args.seed, device=args.device)
     config = replace(config, **{k: v for k, v in {"steps": args.steps, "batch": args.batch,
                                                   "crop": args.crop}.items() if v is not None})
+    choose_device(config.device)  # a bad --device is named before the frames are read
     splits = load_video_splits(args.data, args.scenes)
     history = train_video_deblur(splits, args.out, config, progress=not args.quiet,
-                                 resume=not args.restart)  # fmt: skip
+                                 restart=args.restart)  # fmt: skip
     print(json.dumps({"checkpoint": str(Path(args.out) / "best.pt"),
                       "best_val_psnr_db": round(max(history["val_psnr"]), 3),
                       "steps": history["step"][-1]}))  # fmt: skip
@@ -204,14 +207,14 @@ def _deblur_video(args: argparse.Namespace) -> int:
     check_output_not_input(args.output, args.input, args.checkpoint)
     import cv2
 
-    from .train import load_video_deblur
-    from .video import DEFAULT_CHECKPOINT, read_frame_folder, restore_sequence
+    from .data.frames import list_frames, read_frames
+    from .inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_frames
 
     model = load_video_deblur(args.checkpoint or DEFAULT_CHECKPOINT)
-    paths, frames = read_frame_folder(args.input)
-    restored = restore_sequence(model, frames)
+    paths = list_frames(args.input)
     target = Path(args.output)
     target.mkdir(parents=True, exist_ok=True)
+    restored = restore_frames(model, read_frames(paths))  # streamed: one chunk held at a time
     for path, frame in zip(paths, restored, strict=True):
         if not cv2.imwrite(str(target / path.name), frame[..., ::-1]):
             raise ValueError(f"{target / path.name}: cannot write this image")
@@ -223,7 +226,8 @@ def _train_pose(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
     from .models.pose import PoseConfig
-    from .train import PoseTrainConfig, train_pose
+    from .train.config import PoseTrainConfig
+    from .train.pose import train_pose
 
     root = _input_root(args.data, args.input)
     config = PoseTrainConfig(seed=args.seed, device=args.device,
@@ -233,7 +237,7 @@ def _train_pose(args: argparse.Namespace) -> int:
     config = replace(config, **{k: v for k, v in overrides.items() if v is not None},
                      learned_weighting=args.learned_weighting)  # fmt: skip
     history = train_pose(root, args.scene, args.out, config, progress=not args.quiet,
-                         resume=not args.restart)  # fmt: skip
+                         restart=args.restart)  # fmt: skip
     print(json.dumps({"checkpoint": str(Path(args.out) / "best.pt"),
                       "epochs": history["epoch"][-1],
                       "val_position_m": round(min(history["val_position_m"]), 4)}))  # fmt: skip
@@ -256,23 +260,28 @@ def _input_root(data: str, condition: str) -> Path:
 
 def _eval_pose(args: argparse.Namespace) -> int:
     check_output_not_input(args.out, args.model)
+    import warnings
+
     import numpy as np
 
     from .data import load_split
+    from .inference import load_pose_model, predict_poses
     from .metrics import pose_summary
-    from .train import load_pose_model, predict_poses
     from .trajectory import quaternions_to_poses, write_tum
 
-    model, config = load_pose_model(Path(args.model) / "best.pt"
-                                    if Path(args.model).is_dir() else args.model)  # fmt: skip
+    path = Path(args.model) / "best.pt" if Path(args.model).is_dir() else Path(args.model)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model, config = load_pose_model(path, scene=args.scene)
+    for warning in caught:
+        print(f"warning: {warning.message}", file=sys.stderr)
     sequences = load_split(args.data, args.scene, "test")
     if not sequences:
         raise ValueError(f"{args.data}/{args.scene}: no TestSplit sequences")
-    positions, quaternions, true_positions, true_quaternions = predict_poses(
-        model, sequences, config)
-    write_tum(args.out, np.arange(len(positions)), quaternions_to_poses(positions, quaternions))
-    summary = pose_summary(true_positions, true_quaternions, positions, quaternions, config.beta)
-    print(json.dumps(summary))
+    pair = predict_poses(model, sequences, config)
+    write_tum(args.out, np.arange(len(pair)),
+              quaternions_to_poses(pair.estimate_positions, pair.estimate_quaternions))  # fmt: skip
+    print(json.dumps(pose_summary(pair, config.beta)))
     return 0
 
 
@@ -338,7 +347,8 @@ def build_parser() -> argparse.ArgumentParser:
     train.add_argument("--crop", type=int, help="crop size in px (default 64)")
     train.add_argument("--seed", type=int, default=DEFAULT_SEED)
     train.add_argument("--device", default="auto", help="auto (CUDA when present), cpu, cuda")
-    train.add_argument("--restart", action="store_true", help="ignore last.pt, start afresh")
+    train.add_argument("--restart", action="store_true",
+                       help="start afresh, replacing a run with other settings in --out")
     train.add_argument("--quiet", action="store_true", help="no progress bar")
     train.set_defaults(handler=_train_video_deblur)
 
@@ -368,7 +378,8 @@ def build_parser() -> argparse.ArgumentParser:
                       help="learnable s_x, s_q loss weights instead of eq. 14's beta")
     pose.add_argument("--seed", type=int, default=DEFAULT_SEED)
     pose.add_argument("--device", default="auto")
-    pose.add_argument("--restart", action="store_true", help="ignore last.pt")
+    pose.add_argument("--restart", action="store_true",
+                      help="start afresh, replacing a run with other settings in --out")
     pose.add_argument("--quiet", action="store_true", help="no progress bar")
     pose.set_defaults(handler=_train_pose)
 

@@ -56,12 +56,17 @@ def resolve_dir(path: str | os.PathLike | None, default: Path) -> Path:
 
 
 def seed_everything(seed: int) -> None:
-    """Seed Python's, NumPy's global and torch's random generators.
+    """Seed Python, NumPy and torch's generators.
+
+    With the same seed, the trainers give the same numbers on CPU whatever the machine's thread
+    count: they also fix torch's intra-op thread count while they run
+    (:data:`blurloc.train.config.TRAIN_THREADS`), since CPU kernels split their sums among the
+    threads and the rounding depends on the split. On CUDA some kernels are not deterministic.
 
     Parameters
     ----------
     seed : int
-        The seed.
+        Non-negative seed.
     """
     import torch  # here, so that commands that never touch torch start fast
 

@@ -74,6 +74,24 @@ def ssim(reference: np.ndarray, estimate: np.ndarray, data_range: float) -> floa
     ))  # fmt: skip
 
 
+def mean_frame_psnr(pairs: list[tuple[np.ndarray, np.ndarray]]) -> float:
+    """Mean PSNR (eq. 6, data range 255) over every frame of several videos.
+
+    Parameters
+    ----------
+    pairs : list of (video, reference video)
+        uint8 (T, H, W, 3) arrays of the same shape per pair (restored or blurred first, sharp
+        second).
+
+    Returns
+    -------
+    float
+        The mean over all frames of all pairs, dB.
+    """
+    return float(np.mean([psnr(truth, frame, 255.0) for video, sharp in pairs
+                          for frame, truth in zip(video, sharp, strict=True)]))  # fmt: skip
+
+
 def position_errors(pair: PosePair) -> np.ndarray:
     """Position error of every frame, ``||c_est - c_ref||_2``.
 

@@ -1,8 +1,8 @@
-"""Data: the 7-Scenes-layout reader and the synthetic stand-in that is written in that layout."""
+"""Data: the 7-Scenes-layout reader, folders of video frames, and the synthetic stand-in that is
+written in that layout. Torch-free."""
 
 from .sevenscenes import (
     DataError,
-    PoseSequenceDataset,
     SequenceFrames,
     check_data,
     list_scenes,
@@ -15,7 +15,6 @@ from .sevenscenes import (
 
 __all__ = [
     "DataError",
-    "PoseSequenceDataset",
     "SequenceFrames",
     "check_data",
     "list_scenes",

@@ -14,19 +14,16 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
 import cv2
 import numpy as np
-import torch
-from torch.utils.data import Dataset
 from tqdm.auto import tqdm
 
 from ..files import decode_image
-from ..geometry import orthonormality_error, rotation_to_quaternion
+from ..geometry import orthonormality_error
 
 SPLIT_FILES = {"train": "TrainSplit.txt", "test": "TestSplit.txt"}
 ROTATION_TOLERANCE = 1e-2  # real 7-Scenes rotations are orthonormal to about 4e-4
@@ -308,101 +305,3 @@ def check_data(root: str | os.PathLike, progress: bool = False, workers: int = 4
             raise DataError(f"{Path(root) / scene}: scene has no frames in its splits")
         summary[scene] = counts
     return {"scenes": summary}
-
-
-def _resize_short_side(image: np.ndarray, short_side: int) -> np.ndarray:
-    height, width = image.shape[:2]
-    scale = short_side / min(height, width)
-    if scale == 1:
-        return image
-    size = (max(1, round(width * scale)), max(1, round(height * scale)))
-    interpolation = cv2.INTER_AREA if scale < 1 else cv2.INTER_LINEAR
-    return cv2.resize(image, size, interpolation=interpolation)
-
-
-class PoseSequenceDataset(Dataset):
-    """Windows of ``window`` consecutive frames with their poses, preprocessed as in the paper.
-
-    Preprocessing (Sec. III.E): resize so the short side is ``resize`` px, crop ``crop``
-    (an int for a square, or (height, width)) at the centre or at a random place shared by the
-    whole window, and map intensities to [-1, 1]. Windows start every ``stride`` frames inside
-    each sequence. ``kinds`` chooses the images returned (``color``, and ``sharp`` on the
-    stand-in). Each item is a dict of tensors: ``<kind>`` (T, 3, H, W), ``position`` (T, 3),
-    ``quaternion`` (T, 4; w >= 0), ``pose`` (T, 4, 4), and ``sequence``/``frame`` indices.
-    """
-
-    def __init__(
-        self,
-        sequences: Sequence[SequenceFrames],
-        window: int = 1,
-        stride: int = 1,
-        resize: int = 128,
-        crop: int | tuple[int, int] | None = 112,
-        random_crop: bool = False,
-        kinds: Iterable[str] = ("color",),
-        cache: bool = True,
-    ) -> None:
-        if window < 1 or stride < 1:
-            raise ValueError(f"window and stride must be >= 1, got {window} and {stride}")
-        if not sequences:
-            raise DataError("no sequences given")
-        self.sequences = list(sequences)
-        self.window, self.stride, self.resize = window, stride, resize
-        self.crop = (crop, crop) if isinstance(crop, int) else crop
-        self.random_crop = random_crop
-        self.kinds = tuple(kinds)
-        self._poses = [seq.poses() for seq in self.sequences]
-        self._cache: dict[Path, np.ndarray] | None = {} if cache else None
-        self.index: list[tuple[int, int]] = []
-        for s, seq in enumerate(self.sequences):
-            if len(seq) < window:
-                raise DataError(
-                    f"{seq.folder}: {len(seq)} frames, shorter than the window ({window})"
-                )
-            self.index += [(s, start) for start in range(0, len(seq) - window + 1, stride)]
-
-    def __len__(self) -> int:
-        return len(self.index)
-
-    def _image(self, path: Path) -> np.ndarray:
-        if self._cache is not None and path in self._cache:
-            return self._cache[path]
-        image = _resize_short_side(read_image(path), self.resize)
-        if self._cache is not None:
-            self._cache[path] = image
-        return image
-
-    def _crop_box(self, height: int, width: int) -> tuple[int, int, int, int]:
-        if self.crop is None:
-            return 0, 0, height, width
-        crop_h, crop_w = self.crop
-        if crop_h > height or crop_w > width:
-            raise ValueError(f"crop {self.crop} larger than the resized image {height}x{width}")
-        if self.random_crop:
-            top = int(torch.randint(0, height - crop_h + 1, ()))
-            left = int(torch.randint(0, width - crop_w + 1, ()))
-        else:
-            top, left = (height - crop_h) // 2, (width - crop_w) // 2
-        return top, left, crop_h, crop_w
-
-    def __getitem__(self, item: int) -> dict[str, torch.Tensor]:
-        s, start = self.index[item]
-        sequence = self.sequences[s]
-        frame_ids = sequence.frame_ids[start : start + self.window]
-        out: dict[str, torch.Tensor] = {}
-        box = None
-        for kind in self.kinds:
-            images = [self._image(sequence.path(i, kind)) for i in frame_ids]
-            if box is None:
-                box = self._crop_box(*images[0].shape[:2])
-            top, left, h, w = box
-            stack = np.stack([im[top : top + h, left : left + w] for im in images])
-            tensor = torch.from_numpy(stack).permute(0, 3, 1, 2).float()
-            out[kind] = tensor / 127.5 - 1.0
-        poses = self._poses[s][start : start + self.window]
-        out["pose"] = torch.from_numpy(poses).float()
-        out["position"] = torch.from_numpy(poses[:, :3, 3]).float()
-        out["quaternion"] = torch.from_numpy(rotation_to_quaternion(poses[:, :3, :3])).float()
-        out["sequence"] = torch.tensor(s)
-        out["frame"] = torch.tensor(start)
-        return out

@@ -14,9 +14,11 @@ from tqdm.auto import tqdm
 
 from ..data.scenes import REAL_MEAN_POSE_BASELINE
 from ..data.sevenscenes import list_scenes, load_split
+from ..inference import load_pose_model, predict_poses
 from ..metrics import combined_errors, orientation_errors_deg, pose_summary, position_errors
 from ..poses import PosePair, to_quaternions
-from ..train import PoseTrainConfig, load_pose_model, predict_poses, train_pose
+from ..train.config import PoseTrainConfig
+from ..train.pose import train_pose
 
 CONDITIONS = ("blurred", "wiener", "rnn", "sharp")
 
@@ -90,10 +92,7 @@ def run_pose_matrix(
         history = train_pose(roots[condition], scene, folder, run_config, progress=False)
         model, _ = load_pose_model(folder / "best.pt")
         test = load_split(roots[condition], scene, "test")
-        positions, quaternions, true_positions, true_quaternions = predict_poses(
-            model, test, run_config
-        )
-        pair = PosePair(true_positions, true_quaternions, positions, quaternions)
+        pair = predict_poses(model, test, run_config)
         summary = pose_summary(pair, config.beta)
         row = {"scene": scene, "condition": condition, "head": head,
                "train_seconds": round(history["seconds"][-1], 1)}  # fmt: skip
@@ -189,12 +188,12 @@ def predict_test_frames(model_path: str | os.PathLike, root: str | os.PathLike, 
         and per frame ``position_error`` (metres, eq. 12) and ``orientation_error`` (degrees,
         eq. 13).
     """
-    model, config = load_pose_model(model_path)
+    model, config = load_pose_model(model_path, scene=scene)
     sequences = load_split(root, scene, "test")
-    position, quaternion, true_position, true_quaternion = predict_poses(model, sequences, config)
-    pair = PosePair(true_position, true_quaternion, position, quaternion)
+    pair = predict_poses(model, sequences, config)
     return {"frames": [(s, frame) for s in sequences for frame in s.frame_ids],
-            "position": position, "quaternion": quaternion,
-            "true_position": true_position, "true_quaternion": true_quaternion,
+            "position": pair.estimate_positions, "quaternion": pair.estimate_quaternions,
+            "true_position": pair.reference_positions,
+            "true_quaternion": pair.reference_quaternions,
             "position_error": position_errors(pair),
             "orientation_error": orientation_errors_deg(pair)}  # fmt: skip

@@ -1,0 +1,126 @@
+"""Video deblurring over whole roots: per-frame scores of several methods against the
+stand-in's sharp frames, and deblurred copies of a root in the 7-Scenes layout (so the pose
+stage reads them with the same reader)."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from collections.abc import Callable
+from pathlib import Path
+
+import cv2
+import numpy as np
+from tqdm.auto import tqdm
+
+from ..data.sevenscenes import SPLIT_FILES, list_scenes, load_split, read_image
+from ..deconv import deblur_blind
+from ..images import as_float_image
+from ..metrics import psnr, ssim
+
+
+def wiener_sequence(blurred: np.ndarray) -> np.ndarray:
+    """Blind Wiener deblurring (eq. 4) of every frame of a video, frame by frame.
+
+    Parameters
+    ----------
+    blurred : numpy.ndarray
+        uint8 (T, H, W, 3).
+
+    Returns
+    -------
+    numpy.ndarray
+        uint8 (T, H, W, 3).
+    """
+    return np.stack([deblur_blind(frame) for frame in blurred])
+
+
+def evaluate_video_deblurring(
+    root: str | os.PathLike,
+    methods: dict[str, Callable[[np.ndarray], np.ndarray]],
+    split: str = "test",
+    progress: bool = False,
+) -> list[dict]:
+    """PSNR (eq. 5) and SSIM (eq. 7) of every frame restored by each method.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A stand-in root (it needs the sharp frames).
+    methods : dict
+        Name -> function of a whole uint8 (T, H, W, 3) sequence returning one of that shape.
+    split : str
+        ``train`` or ``test``.
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    list of dict
+        One row per frame and method: ``scene``, ``sequence``, ``frame``, ``method``,
+        ``psnr_db`` and ``ssim`` (data range 1, against the sharp frame).
+    """
+    rows = []
+    sequences = [s for scene in list_scenes(root) for s in load_split(root, scene, split)]
+    for sequence in tqdm(sequences, disable=not progress, desc=f"evaluate {split}"):
+        blurred = np.stack([read_image(sequence.path(f, "color")) for f in sequence.frame_ids])
+        sharp = [as_float_image(read_image(sequence.path(f, "sharp"))) for f in sequence.frame_ids]
+        for name, method in methods.items():
+            restored = method(blurred)
+            for index, frame in enumerate(sequence.frame_ids):
+                estimate = as_float_image(restored[index])
+                rows.append({
+                    "scene": sequence.scene, "sequence": sequence.number, "frame": frame,
+                    "method": name, "psnr_db": psnr(sharp[index], estimate, 1.0),
+                    "ssim": ssim(sharp[index], estimate, 1.0),
+                })  # fmt: skip
+    return rows
+
+
+def write_deblurred_root(
+    root: str | os.PathLike,
+    out_root: str | os.PathLike,
+    method: Callable[[np.ndarray], np.ndarray],
+    progress: bool = False,
+) -> Path:
+    """Copy a 7-Scenes-layout root with every colour frame replaced by ``method``'s output.
+
+    Poses, split files and the stand-in's sharp frames are carried over, so the pose stage
+    reads the copy like the original.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        The root to copy.
+    out_root : str or os.PathLike
+        Where the copy is written.
+    method : callable
+        Function of a whole uint8 (T, H, W, 3) sequence returning one of that shape.
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    pathlib.Path
+        ``out_root``.
+    """
+    root, out_root = Path(root), Path(out_root)
+    sequences = [(scene, s) for scene in list_scenes(root) for split in SPLIT_FILES
+                 for s in load_split(root, scene, split)]  # fmt: skip
+    for scene in list_scenes(root):
+        (out_root / scene).mkdir(parents=True, exist_ok=True)
+        for name in SPLIT_FILES.values():
+            shutil.copyfile(root / scene / name, out_root / scene / name)
+    for scene, sequence in tqdm(sequences, disable=not progress, desc="write deblurred"):
+        folder = out_root / scene / sequence.folder.name
+        folder.mkdir(parents=True, exist_ok=True)
+        blurred = np.stack([read_image(sequence.path(f, "color")) for f in sequence.frame_ids])
+        restored = method(blurred)
+        for index, frame in enumerate(sequence.frame_ids):
+            target = folder / sequence.path(frame, "color").name
+            cv2.imwrite(str(target), restored[index][..., ::-1])
+            for kind in ("pose", "sharp"):
+                source = sequence.path(frame, kind)
+                if source.is_file():
+                    shutil.copyfile(source, folder / source.name)
+    return out_root

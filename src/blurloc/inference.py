@@ -1,0 +1,354 @@
+"""Using trained networks: load any checkpoint of the package safely, restore a video with the
+recurrent deblurring network (eq. 8-11), predict camera poses with the pose regressor.
+
+Every checkpoint is read with ``torch.load(..., weights_only=True)`` (tensors and plain data
+only: a crafted file cannot run code) and must carry the format tag of its kind
+(:data:`CHECKPOINT_FORMATS`); every failure is a ``ValueError`` naming the file.
+"""
+
+from __future__ import annotations
+
+import os
+import pickle
+import warnings
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from .data.sevenscenes import SequenceFrames
+from .models.pose import PoseConfig, PoseRegressor
+from .models.video_deblur import VideoDeblurConfig, VideoDeblurNet
+from .poses import PosePair
+from .train.config import PoseTrainConfig
+from .train.datasets import FrameCache, PoseSequenceDataset
+
+#: Format tag stored in each kind of checkpoint, by kind.
+CHECKPOINT_FORMATS = {"video-deblur": "blurloc-video-deblur-1", "pose": "blurloc-pose-1"}
+#: The trained video network shipped with the package (see README for the command that makes it).
+DEFAULT_CHECKPOINT = Path(__file__).with_name("weights") / "video_deblur.pt"
+#: Pixels restored at once by :func:`restore_frames` (bounds its memory for large frames).
+CHUNK_PIXELS = 2**22
+
+
+def checkpoint_kind(payload: dict) -> str:
+    """The kind (``video-deblur`` or ``pose``) of a loaded checkpoint payload.
+
+    Parameters
+    ----------
+    payload : dict
+        What :func:`load_checkpoint` returned.
+
+    Returns
+    -------
+    str
+        A key of :data:`CHECKPOINT_FORMATS`.
+    """
+    return next(k for k, tag in CHECKPOINT_FORMATS.items() if payload.get("format") == tag)
+
+
+def load_checkpoint(
+    path: str | os.PathLike, kind: str | None, device: torch.device | str = "cpu"
+) -> dict:
+    """Read a checkpoint of this package safely.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    kind : str or None
+        Expected kind (a key of :data:`CHECKPOINT_FORMATS`); None accepts any kind.
+    device : torch.device or str
+        Where its tensors are placed.
+
+    Returns
+    -------
+    dict
+        The payload: ``format``, ``model`` (a state dict) and the kind's settings.
+
+    Raises
+    ------
+    ValueError
+        Naming the file: it is missing or empty, damaged or truncated, not a torch file, a
+        pickle holding anything but tensors and plain data, or a checkpoint of another kind.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"{path}: checkpoint file is missing")
+    if path.stat().st_size == 0:
+        raise ValueError(f"{path}: checkpoint file is empty")
+    try:
+        with warnings.catch_warnings():  # torch warns about pickle protocols of foreign files
+            warnings.simplefilter("ignore")
+            payload = torch.load(path, map_location=device, weights_only=True)
+    except pickle.UnpicklingError as error:
+        if "weights only" not in str(error).lower():
+            raise ValueError(f"{path}: not a readable checkpoint (damaged or truncated)") from None
+        raise ValueError(f"{path}: holds objects other than tensors and plain data; refused, "
+                         "since loading it could run code") from None  # fmt: skip
+    except Exception:  # torch raises several types for damaged or foreign files
+        raise ValueError(f"{path}: not a readable checkpoint (damaged, truncated or not a "
+                         "torch file)") from None  # fmt: skip
+    tags = {tag: name for name, tag in CHECKPOINT_FORMATS.items()}
+    found = tags.get(payload.get("format")) if isinstance(payload, dict) else None
+    if found is None or not isinstance(payload.get("model"), dict):
+        raise ValueError(f"{path}: not a blurloc checkpoint")
+    if kind is not None and found != kind:
+        raise ValueError(f"{path}: a blurloc {found} checkpoint, not a {kind} one")
+    return payload
+
+
+def _build(path: Path, model: torch.nn.Module, state: dict) -> None:
+    """Load ``state`` into ``model``; ValueError naming ``path`` when it does not fit."""
+    try:
+        model.load_state_dict(state)
+    except (RuntimeError, TypeError, KeyError) as error:
+        raise ValueError(f"{path}: weights do not fit the stored configuration") from error
+
+
+def load_video_deblur(path: str | os.PathLike, device: str = "cpu") -> VideoDeblurNet:
+    """The video-deblurring network stored in a checkpoint, in eval mode.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``video-deblur`` checkpoint (e.g. :data:`DEFAULT_CHECKPOINT` or a run's ``best.pt``).
+    device : str
+        Device of the returned network.
+
+    Returns
+    -------
+    VideoDeblurNet
+
+    Raises
+    ------
+    ValueError
+        Naming the file, for any problem (see :func:`load_checkpoint`).
+    """
+    path = Path(path)
+    payload = load_checkpoint(path, "video-deblur", device)
+    try:
+        model = VideoDeblurNet(VideoDeblurConfig(**payload["model_config"]))
+    except (KeyError, TypeError, ValueError) as error:
+        raise ValueError(f"{path}: damaged network configuration ({error})") from None
+    _build(path, model, payload["model"])
+    return model.to(device).eval()
+
+
+def load_pose_model(
+    path: str | os.PathLike, device: str = "cpu", scene: str | None = None
+) -> tuple[PoseRegressor, PoseTrainConfig]:
+    """The pose regressor stored in a checkpoint (eval mode) and its training settings.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``pose`` checkpoint (a ``train-pose`` run's ``best.pt``).
+    device : str
+        Device of the returned network.
+    scene : str, optional
+        The scene the model is about to be used on: a warning names both scenes when the model
+        was trained on another one.
+
+    Returns
+    -------
+    model : PoseRegressor
+    config : PoseTrainConfig
+        The settings it was trained with (crop, window, frame kind...).
+
+    Raises
+    ------
+    ValueError
+        Naming the file, for any problem (see :func:`load_checkpoint`).
+    """
+    path = Path(path)
+    payload = load_checkpoint(path, "pose", device)
+    try:
+        settings = dict(payload["train_config"])
+        model_config = PoseConfig(**settings.pop("model"))
+        config = PoseTrainConfig(**settings, model=model_config)
+    except (KeyError, TypeError, ValueError) as error:
+        raise ValueError(f"{path}: damaged training settings ({error})") from None
+    model = PoseRegressor(model_config)
+    _build(path, model, payload["model"])
+    trained_on = payload.get("scene")
+    if scene is not None and trained_on is not None and trained_on != scene:
+        warnings.warn(f"{path}: a model trained on scene {trained_on!r}, used on scene "
+                      f"{scene!r}", stacklevel=2)  # fmt: skip
+    return model.to(device).eval(), config
+
+
+def predict_poses(
+    model: PoseRegressor,
+    sequences: list[SequenceFrames],
+    config: PoseTrainConfig,
+    device: torch.device | str = "cpu",
+    cache: FrameCache | None = None,
+) -> PosePair:
+    """The model's pose for every frame of ``sequences`` beside the reference pose.
+
+    Recurrent heads see non-overlapping windows of ``config.window`` frames (the last window
+    of a sequence ends at its last frame), centre crops of frames resized as in training.
+
+    Parameters
+    ----------
+    model : PoseRegressor
+    sequences : list of SequenceFrames
+        Each at least ``config.window`` frames long.
+    config : PoseTrainConfig
+        The model's training settings (window, resize, crop, frame kind).
+    device : torch.device or str
+        Where the model runs.
+    cache : FrameCache, optional
+        Decoded frames shared with other readers of the same run.
+
+    Returns
+    -------
+    PosePair
+        Reference and estimated poses, in sequence order, then frame order.
+
+    Raises
+    ------
+    ValueError
+        If a sequence is shorter than the window (naming its folder).
+    """
+    window = config.window
+    short = [s for s in sequences if len(s) < window]
+    if short:
+        raise ValueError(f"{short[0].folder}: {len(short[0])} frames, shorter than the window "
+                         f"({window})")  # fmt: skip
+    dataset = PoseSequenceDataset(sequences, window=window, stride=window, resize=config.resize,
+                                  crop=config.crop, kinds=(config.image,), cache=cache)  # fmt: skip
+    for index, sequence in enumerate(sequences):
+        if len(sequence) % window:
+            dataset.index.append((index, len(sequence) - window))
+    model = model.to(device).eval()
+    predicted: dict[tuple[int, int], tuple] = {}
+    with torch.inference_mode():
+        for start in range(0, len(dataset), 32):
+            items = [dataset[i] for i in range(start, min(start + 32, len(dataset)))]
+            frames = torch.stack([item[config.image] for item in items]).to(device)
+            positions, quaternions = model(frames)
+            for item, position, quaternion in zip(items, positions, quaternions, strict=True):
+                for k in range(window):
+                    key = (int(item["sequence"]), int(item["frame"]) + k)  # frame: window start
+                    predicted.setdefault(key, (item["position"][k].numpy(),
+                                               item["quaternion"][k].numpy(),
+                                               position[k].cpu().numpy(),
+                                               quaternion[k].cpu().numpy()))  # fmt: skip
+    keys = sorted(predicted)
+    return PosePair(*(np.stack([predicted[k][c] for k in keys]) for c in range(4)))
+
+
+def to_tensor(frames: np.ndarray) -> torch.Tensor:
+    """uint8 frames (..., H, W, 3) as a float tensor (..., 3, H, W) in [-1, 1].
+
+    Parameters
+    ----------
+    frames : numpy.ndarray
+        uint8, channels last.
+
+    Returns
+    -------
+    torch.Tensor
+        float32, channels before height and width, ``frames / 127.5 - 1``.
+    """
+    tensor = torch.from_numpy(np.ascontiguousarray(frames)).float().div_(127.5).sub_(1.0)
+    return tensor.movedim(-1, -3)
+
+
+def to_uint8(tensor: torch.Tensor) -> np.ndarray:
+    """Float tensor (..., 3, H, W) in [-1, 1] as uint8 frames (..., H, W, 3) (rounded, clipped).
+
+    Parameters
+    ----------
+    tensor : torch.Tensor
+        Network output, any device.
+
+    Returns
+    -------
+    numpy.ndarray
+        uint8, channels last.
+    """
+    image = tensor.detach().float().movedim(-3, -1).add(1.0).mul(127.5).round().clamp(0, 255)
+    return image.to(torch.uint8).cpu().numpy()
+
+
+def restore_frames(
+    model: VideoDeblurNet,
+    frames: Iterable[np.ndarray],
+    device: torch.device | str = "cpu",
+    chunk: int = 32,
+) -> Iterator[np.ndarray]:
+    """Deblur a stream of video frames in time order, carrying the recurrent state (eq. 8-11).
+
+    Frames are read from ``frames`` and restored in chunks of at most ``chunk`` frames and
+    :data:`CHUNK_PIXELS` pixels, so at most one chunk is held at a time, whatever the video's
+    length.
+
+    Parameters
+    ----------
+    model : VideoDeblurNet
+    frames : iterable of numpy.ndarray
+        uint8 (H, W, 3) frames of one size (e.g. :func:`blurloc.data.frames.read_frames`).
+    device : torch.device or str
+        Where the network runs.
+    chunk : int
+        Most frames restored at once.
+
+    Yields
+    ------
+    numpy.ndarray
+        The restored uint8 (H, W, 3) frames, one per input frame, in order.
+    """
+    device = torch.device(device)
+    model = model.to(device).eval()
+    state, pending, size = None, [], chunk
+    with torch.inference_mode():
+        for frame in frames:
+            if not pending and state is None:
+                size = max(1, min(chunk, CHUNK_PIXELS // (frame.shape[0] * frame.shape[1])))
+            pending.append(frame)
+            if len(pending) == size:
+                output, state = model(to_tensor(np.stack(pending))[None].to(device), state)
+                pending = []
+                yield from to_uint8(output[0])
+        if pending:
+            output, _ = model(to_tensor(np.stack(pending))[None].to(device), state)
+            yield from to_uint8(output[0])
+
+
+def restore_sequence(
+    model: VideoDeblurNet,
+    blurred: np.ndarray,
+    device: torch.device | str = "cpu",
+    chunk: int = 32,
+) -> np.ndarray:
+    """Deblur one whole video held in memory (see :func:`restore_frames`).
+
+    Parameters
+    ----------
+    model : VideoDeblurNet
+    blurred : numpy.ndarray
+        uint8 (T, H, W, 3), T >= 2.
+    device : torch.device or str
+        Where the network runs.
+    chunk : int
+        Most frames restored at once (the state is carried between chunks).
+
+    Returns
+    -------
+    numpy.ndarray
+        uint8 (T, H, W, 3).
+
+    Raises
+    ------
+    ValueError
+        If ``blurred`` is not a (T, H, W, 3) video of at least 2 frames.
+    """
+    if blurred.ndim != 4 or blurred.shape[-1] != 3:
+        raise ValueError(f"a video must be uint8 frames (T, H, W, 3), got {blurred.shape}")
+    if len(blurred) < 2:
+        raise ValueError("a video needs at least 2 frames (got 1): use a single-image method")
+    return np.stack(list(restore_frames(model, blurred, device, chunk)))

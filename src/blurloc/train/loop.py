@@ -1,0 +1,232 @@
+"""What both trainers share: the device, the thread count, the validation cut, atomic
+checkpoints and the rule for resuming a run from its folder.
+
+A run folder holds ``best.pt`` (the best validation), ``last.pt`` (everything needed to resume)
+and ``history.json``. A folder holds one model kind and one run: training into a folder whose
+checkpoints were made with other settings is refused unless the caller asks to start afresh
+(``restart``, the CLI's ``--restart``); a folder holding another model kind is always refused.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import torch
+
+from ..inference import checkpoint_kind, load_checkpoint
+
+#: Fraction of every training sequence held out (at its end) for validation.
+VALIDATION_FRACTION = 0.15
+#: Files of a run folder that identify the run (both hold the kind and the settings).
+RUN_CHECKPOINTS = ("last.pt", "best.pt")
+
+
+def validation_cut(length: int) -> int:
+    """Number of frames at the end of a training sequence held out for validation.
+
+    The cut is temporal (no validation frame sits inside a training window) and holds at least
+    2 frames: the video network needs two frames to carry a state, and a recurrent pose head
+    needs two to be validated as a sequence.
+
+    Parameters
+    ----------
+    length : int
+        Frames in the training sequence.
+
+    Returns
+    -------
+    int
+        ``max(2, round(VALIDATION_FRACTION * length))``.
+
+    Raises
+    ------
+    ValueError
+        If fewer than 3 frames would remain (at least one for training).
+    """
+    held_out = max(2, round(VALIDATION_FRACTION * length))
+    if length - held_out < 1:
+        raise ValueError(f"a training sequence of {length} frames is too short to hold out "
+                         f"{held_out} validation frames")  # fmt: skip
+    return held_out
+
+
+def choose_device(device: str = "auto") -> torch.device:
+    """The torch device named by ``device``.
+
+    Parameters
+    ----------
+    device : str
+        ``auto`` (CUDA when present, else CPU), ``cpu``, ``cuda`` or ``cuda:N``, ``mps``.
+
+    Returns
+    -------
+    torch.device
+
+    Raises
+    ------
+    ValueError
+        If the name is not a device (``gpu0``) or names CUDA on a machine without it; the
+        message names ``--device``.
+    """
+    if device == "auto":
+        return torch.device("cuda" if torch.cuda.is_available() else "cpu")
+    try:
+        chosen = torch.device(device)
+    except (RuntimeError, TypeError):
+        raise ValueError(f"--device {device!r}: not a device (use auto, cpu, cuda or cuda:N)") \
+            from None  # fmt: skip
+    if chosen.type == "cuda":
+        if not torch.cuda.is_available():
+            raise ValueError(f"--device {device!r}: CUDA is not available on this machine "
+                             "(use auto or cpu)")  # fmt: skip
+        if chosen.index is not None and chosen.index >= torch.cuda.device_count():
+            raise ValueError(f"--device {device!r}: this machine has "
+                             f"{torch.cuda.device_count()} CUDA device(s)")  # fmt: skip
+    elif chosen.type == "mps" and not torch.backends.mps.is_available():
+        raise ValueError(f"--device {device!r}: MPS is not available on this machine")
+    elif chosen.type not in ("cpu", "cuda", "mps"):
+        raise ValueError(f"--device {device!r}: not supported (use auto, cpu, cuda or cuda:N)")
+    return chosen
+
+
+@contextmanager
+def fixed_threads(threads: int) -> Iterator[None]:
+    """Run the enclosed code with ``threads`` intra-op CPU threads, then restore the count.
+
+    On CPU the sums inside convolutions and matrix products are split among the threads, so
+    the rounding (and a trained network) depends on the thread count; fixing it makes one seed
+    give the same numbers on any machine.
+
+    Parameters
+    ----------
+    threads : int
+        Intra-op threads (``torch.set_num_threads``), >= 1.
+    """
+    previous = torch.get_num_threads()
+    torch.set_num_threads(threads)
+    try:
+        yield
+    finally:
+        torch.set_num_threads(previous)
+
+
+def save_checkpoint(path: str | os.PathLike, payload: dict) -> None:
+    """Save ``payload`` with ``torch.save`` atomically.
+
+    It is written to a temporary file in the same folder and renamed, so a crash never leaves
+    half a checkpoint.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Target file; its folder is created.
+    payload : dict
+        Tensors and plain data only (so that it loads with ``weights_only=True``).
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(handle)
+    try:
+        torch.save(payload, temporary)
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+
+
+def write_history(out_dir: str | os.PathLike, history: dict) -> Path:
+    """Write a run's history as ``out_dir/history.json`` atomically (temporary file, rename).
+
+    Parameters
+    ----------
+    out_dir : str or os.PathLike
+        The run folder.
+    history : dict
+        Lists of numbers per quantity.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+    """
+    path = Path(out_dir) / "history.json"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile("w", dir=path.parent, suffix=".tmp", delete=False) as handle:
+        json.dump(history, handle, indent=1)
+    os.replace(handle.name, path)
+    return path
+
+
+def resume_state(
+    out_dir: str | os.PathLike,
+    kind: str,
+    settings: dict,
+    restart: bool = False,
+    device: torch.device | str = "cpu",
+) -> dict | None:
+    """The ``last.pt`` payload to resume from, after checking what the run folder holds.
+
+    Parameters
+    ----------
+    out_dir : str or os.PathLike
+        The run folder (may not exist yet).
+    kind : str
+        Model kind of this run (a key of :data:`blurloc.inference.CHECKPOINT_FORMATS`).
+    settings : dict
+        Entries every checkpoint of this run stores and must match to be resumed (the training
+        settings, and e.g. the scene).
+    restart : bool
+        Start afresh even if the folder holds a run of this kind with other settings (its
+        results will be replaced).
+    device : torch.device or str
+        Where the tensors of ``last.pt`` are loaded.
+
+    Returns
+    -------
+    dict or None
+        The ``last.pt`` payload when the run continues; None when it starts afresh.
+
+    Raises
+    ------
+    ValueError
+        Naming the file: it is not a readable checkpoint, holds another model kind, or was made
+        with other settings and ``restart`` is False (the message names ``--restart``).
+    """
+    out_dir = Path(out_dir)
+    resumed = None
+    for name in RUN_CHECKPOINTS:
+        path = out_dir / name
+        if not path.is_file():
+            continue
+        payload = load_checkpoint(path, None, device)
+        if checkpoint_kind(payload) != kind:
+            raise ValueError(f"{path}: holds a {checkpoint_kind(payload)} model; a folder "
+                             f"holds one model kind: give another --out for this {kind} model")
+        if restart:
+            continue
+        changed = _changed(payload, settings)
+        if changed:
+            raise ValueError(f"{path}: made with other settings ({', '.join(changed)}); give "
+                             "--restart to start afresh (its results are replaced) or another "
+                             "--out")  # fmt: skip
+        if name == "last.pt":
+            resumed = payload
+    return resumed
+
+
+def _changed(stored: dict, wanted: dict, prefix: str = "") -> list[str]:
+    """Names of the entries of ``wanted`` that ``stored`` lacks or holds otherwise (nested)."""
+    changed = []
+    for key, value in wanted.items():
+        old = stored.get(key) if isinstance(stored, dict) else None
+        if isinstance(value, dict) and isinstance(old, dict):
+            changed += _changed(old, value, f"{prefix}{key}.")
+        elif old != value:
+            changed.append(f"{prefix}{key}: {old!r} -> {value!r}")
+    return changed

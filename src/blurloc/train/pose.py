@@ -1,0 +1,196 @@
+"""Training the camera-pose regressor (Sec. III.B-E) on one scene with the loss of eq. 14."""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import torch
+from tqdm.auto import tqdm
+
+from ..config import seed_everything
+from ..data.sevenscenes import SequenceFrames, load_split
+from ..geometry import rotation_to_quaternion
+from ..inference import CHECKPOINT_FORMATS, predict_poses
+from ..metrics import pose_summary
+from ..models.pose import LearnedWeighting, PoseRegressor, pose_loss
+from .config import PoseTrainConfig
+from .datasets import FrameCache, PoseSequenceDataset
+from .loop import (
+    choose_device,
+    fixed_threads,
+    resume_state,
+    save_checkpoint,
+    validation_cut,
+    write_history,
+)
+
+
+def split_validation(
+    sequences: list[SequenceFrames],
+) -> tuple[list[SequenceFrames], list[SequenceFrames]]:
+    """Training sequences cut in time: the end of each (:func:`~.loop.validation_cut`) for
+    validation.
+
+    Parameters
+    ----------
+    sequences : list of SequenceFrames
+        A scene's training sequences.
+
+    Returns
+    -------
+    train, validation : list of SequenceFrames
+        The beginning and the end of every sequence.
+    """
+    train, validation = [], []
+    for sequence in sequences:
+        cut = len(sequence.frame_ids) - validation_cut(len(sequence))
+        train.append(replace(sequence, frame_ids=sequence.frame_ids[:cut]))
+        validation.append(replace(sequence, frame_ids=sequence.frame_ids[cut:]))
+    return train, validation
+
+
+def train_pose(
+    root: str | os.PathLike,
+    scene: str,
+    out_dir: str | os.PathLike,
+    config: PoseTrainConfig | None = None,
+    progress: bool = True,
+    restart: bool = False,
+    stop_after: int | None = None,
+) -> dict:
+    """Train a :class:`~blurloc.models.pose.PoseRegressor` on a scene's training split.
+
+    The loss is eq. 14 (or the learned weighting); the epoch with the lowest median validation
+    position + orientation/10 error is kept (``best.pt``), ``last.pt`` holds the state to
+    resume from. Each frame is decoded and resized once per run (a
+    :class:`~.datasets.FrameCache` shared by the training and validation sets, bounded by
+    :data:`~.datasets.CACHE_BYTES`). A run in ``out_dir`` with the same settings resumes where
+    it stopped, with the same numbers as an uninterrupted run.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A 7-Scenes-layout root.
+    scene : str
+        The scene (its TrainSplit minus the validation cut is trained on).
+    out_dir : str or os.PathLike
+        The run folder.
+    config : PoseTrainConfig, optional
+        Settings (defaults when None).
+    progress : bool
+        Show a progress bar.
+    restart : bool
+        Start afresh even if ``out_dir`` holds a run with other settings (replacing it).
+    stop_after : int, optional
+        End this call after that many epochs (a later call resumes).
+
+    Returns
+    -------
+    dict
+        History: ``epoch``, ``train_loss``, ``val_position_m`` and ``val_orientation_deg``
+        (medians, eq. 12-13), ``seconds``, one entry per epoch.
+
+    Raises
+    ------
+    ValueError
+        If the scene has no training sequences, ``out_dir`` holds another model kind, a damaged
+        checkpoint, or a run with other settings (without ``restart``); or the device is not
+        available.
+    """
+    config = config or PoseTrainConfig()
+    out_dir = Path(out_dir)
+    device = choose_device(config.device)
+    settings = {"train_config": config.settings(), "scene": scene}
+    resumed = resume_state(out_dir, "pose", settings, restart, device)
+    sequences = load_split(root, scene, "train")
+    if not sequences:
+        raise ValueError(f"{Path(root) / scene}: no training sequences")
+    with fixed_threads(config.threads):
+        return _train(sequences, scene, out_dir, config, device, resumed, progress, stop_after)
+
+
+def _train(
+    sequences: list[SequenceFrames], scene: str, out_dir: Path, config: PoseTrainConfig,
+    device: torch.device, resumed: dict | None, progress: bool, stop_after: int | None,
+) -> dict:  # fmt: skip
+    """The loop of :func:`train_pose`, from scratch or from ``resumed``."""
+    seed_everything(config.seed)
+    train_sequences, validation = split_validation(sequences)
+    cache = FrameCache()
+    single = config.model.head == "none"  # the head-less baseline sees single frames
+    dataset = PoseSequenceDataset(
+        train_sequences, window=1 if single else config.window,
+        stride=1 if single else config.stride, resize=config.resize, crop=config.crop,
+        random_crop=True, kinds=(config.image,), cache=cache,
+    )  # fmt: skip
+    loader = torch.utils.data.DataLoader(dataset, batch_size=config.batch, shuffle=True,
+                                         drop_last=len(dataset) > config.batch)  # fmt: skip
+    validation_config = replace(config, window=min(config.window, *map(len, validation)))
+    model = PoseRegressor(config.model).to(device)
+    with torch.no_grad():  # start from the mean training pose
+        poses = np.concatenate([s.poses() for s in train_sequences])
+        model.position.bias.copy_(torch.as_tensor(poses[:, :3, 3].mean(axis=0)))
+        quaternions = rotation_to_quaternion(poses[:, :3, :3])
+        model.rotation.bias.copy_(torch.as_tensor(quaternions.mean(axis=0)))
+    weighting = LearnedWeighting().to(device) if config.learned_weighting else None
+    parameters = list(model.parameters()) + (list(weighting.parameters()) if weighting else [])
+    optimiser = torch.optim.Adam(parameters, lr=config.lr, weight_decay=config.weight_decay)
+    history = {"epoch": [], "train_loss": [], "val_position_m": [], "val_orientation_deg": [],
+               "seconds": []}  # fmt: skip
+    epoch, best = 0, np.inf
+    if resumed is not None:
+        model.load_state_dict(resumed["model"])
+        optimiser.load_state_dict(resumed["optimiser"])
+        if weighting is not None:
+            weighting.load_state_dict(resumed["weighting"])
+        epoch, history, best = resumed["epoch"], resumed["history"], resumed["best"]
+        torch.set_rng_state(resumed["torch_rng"])
+    started = time.perf_counter() - (history["seconds"][-1] if history["seconds"] else 0.0)
+    bar = tqdm(total=config.epochs, initial=epoch, disable=not progress, desc=f"pose {scene}")
+    first_epoch = epoch
+    while epoch < config.epochs:
+        if stop_after is not None and epoch - first_epoch >= stop_after:
+            break
+        model.train()
+        losses = []
+        for batch in loader:
+            frames = batch[config.image].to(device)
+            position, quaternion = model(frames)
+            true_position = batch["position"].to(device).float()
+            true_quaternion = batch["quaternion"].to(device).float()
+            if weighting is None:
+                loss = pose_loss(position, quaternion, true_position, true_quaternion, config.beta)
+            else:
+                loss = weighting(position, quaternion, true_position, true_quaternion)
+            optimiser.zero_grad()
+            loss.backward()
+            optimiser.step()
+            losses.append(loss.item())
+        epoch += 1
+        pair = predict_poses(model, validation, validation_config, device, cache)
+        summary = pose_summary(pair, config.beta)
+        history["epoch"].append(epoch)
+        history["train_loss"].append(float(np.mean(losses)))
+        history["val_position_m"].append(summary["position_m"]["median"])
+        history["val_orientation_deg"].append(summary["orientation_deg"]["median"])
+        history["seconds"].append(time.perf_counter() - started)
+        bar.update()
+        score = summary["position_m"]["median"] + summary["orientation_deg"]["median"] / 10.0
+        payload = {"format": CHECKPOINT_FORMATS["pose"], "train_config": config.settings(),
+                   "model": model.state_dict(), "epoch": epoch, "history": history,
+                   "scene": scene}  # fmt: skip
+        if score < best:
+            best = score
+            save_checkpoint(out_dir / "best.pt", payload)
+        save_checkpoint(out_dir / "last.pt", {
+            **payload, "optimiser": optimiser.state_dict(), "best": best,
+            "weighting": weighting.state_dict() if weighting else None,
+            "torch_rng": torch.get_rng_state(),
+        })  # fmt: skip
+    bar.close()
+    write_history(out_dir, history)
+    return history

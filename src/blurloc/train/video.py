@@ -1,0 +1,254 @@
+"""Training the recurrent video-deblurring network (eq. 8-11).
+
+Clips of ``clip_frames`` consecutive blurred frames with their sharp frames from the stand-in's
+training sequences; random crops, flips and time reversal; Charbonnier loss
+sqrt((L_t - S_t)^2 + eps^2) against the sharp frame; Adam with a cosine learning rate. The end
+of every training sequence (:func:`~blurloc.train.loop.validation_cut`) is held out for
+validation.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+from tqdm.auto import tqdm
+
+from ..config import seed_everything
+from ..data.sevenscenes import SequenceFrames, list_scenes, load_split, read_image
+from ..inference import CHECKPOINT_FORMATS, restore_sequence, to_tensor
+from ..metrics import mean_frame_psnr
+from ..models.video_deblur import VideoDeblurNet
+from .config import VideoTrainConfig
+from .loop import (
+    choose_device,
+    fixed_threads,
+    resume_state,
+    save_checkpoint,
+    validation_cut,
+    write_history,
+)
+
+#: Bound of the frames :func:`load_video_splits` holds in memory, bytes.
+VIDEO_CACHE_BYTES = 4 * 1024**3
+
+Video = tuple[np.ndarray, np.ndarray]
+
+
+def load_video_splits(
+    root: str | os.PathLike, scenes: list[str] | None = None, max_bytes: int = VIDEO_CACHE_BYTES
+) -> dict[str, list[Video]]:
+    """Blurred and sharp frames of every sequence, decoded once for a whole training run.
+
+    The trainer draws random clips from every training sequence at every step, so the frames
+    stay in memory as uint8: 2 x frames x H x W x 3 bytes (the default stand-in, 4300 frames of
+    160x120: 0.5 GB), at most ``max_bytes``.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A stand-in root (it needs the sharp frames).
+    scenes : list of str, optional
+        Scenes to read (default: all).
+    max_bytes : int
+        Bound of the memory the frames may take, bytes (default :data:`VIDEO_CACHE_BYTES`).
+
+    Returns
+    -------
+    dict
+        ``train``, ``validation`` (the end of each training sequence) and ``test``: lists of
+        (blurred, sharp) pairs of uint8 (T, H, W, 3) arrays.
+
+    Raises
+    ------
+    ValueError
+        If the frames would take more than ``max_bytes`` (naming the root), or a file is bad.
+    """
+    selected = [(scene, split, sequence) for scene in scenes or list_scenes(root)
+                for split in ("train", "test")
+                for sequence in load_split(root, scene, split)]  # fmt: skip
+    if selected:
+        height, width = read_image(selected[0][2].path(selected[0][2].frame_ids[0])).shape[:2]
+        needed = 2 * sum(len(s) for _, _, s in selected) * height * width * 3
+        if needed > max_bytes:
+            raise ValueError(f"{root}: its frames take {needed / 1e9:.1f} GB in memory, more "
+                             f"than {max_bytes / 1e9:.1f} GB: train on fewer --scenes")  # fmt: skip
+    splits: dict[str, list[Video]] = {"train": [], "validation": [], "test": []}
+    for _, split, sequence in selected:
+        frames = sequence.frame_ids
+        if split == "train":
+            cut = len(frames) - validation_cut(len(frames))
+            splits["train"].append(_read_video(sequence, frames[:cut]))
+            splits["validation"].append(_read_video(sequence, frames[cut:]))
+        else:
+            splits["test"].append(_read_video(sequence, frames))
+    return splits
+
+
+def _read_video(sequence: SequenceFrames, frames: tuple[int, ...]) -> Video:
+    blurred = np.stack([read_image(sequence.path(f, "color")) for f in frames])
+    sharp = np.stack([read_image(sequence.path(f, "sharp")) for f in frames])
+    return blurred, sharp
+
+
+def _sample_clips(
+    sequences: list[Video], config: VideoTrainConfig, rng: np.random.Generator
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """A batch of random clips: crops, flips and time reversal shared by blurred and sharp."""
+    usable = [s for s in sequences if len(s[0]) >= config.clip_frames]
+    if not usable:
+        raise ValueError(f"no training sequence has {config.clip_frames} frames")
+    blurred_batch, sharp_batch = [], []
+    for _ in range(config.batch):
+        blurred, sharp = usable[rng.integers(len(usable))]
+        start = rng.integers(0, len(blurred) - config.clip_frames + 1)
+        height, width = blurred.shape[1:3]
+        crop_h, crop_w = min(config.crop, height), min(config.crop, width)
+        top, left = rng.integers(0, height - crop_h + 1), rng.integers(0, width - crop_w + 1)
+        window = (slice(start, start + config.clip_frames), slice(top, top + crop_h),
+                  slice(left, left + crop_w))  # fmt: skip
+        clip_b, clip_s = blurred[window], sharp[window]
+        if rng.random() < 0.5:
+            clip_b, clip_s = clip_b[:, :, ::-1], clip_s[:, :, ::-1]
+        if rng.random() < 0.5:
+            clip_b, clip_s = clip_b[:, ::-1], clip_s[:, ::-1]
+        if rng.random() < 0.5:
+            clip_b, clip_s = clip_b[::-1], clip_s[::-1]
+        blurred_batch.append(clip_b)
+        sharp_batch.append(clip_s)
+    return to_tensor(np.stack(blurred_batch)), to_tensor(np.stack(sharp_batch))
+
+
+def validation_psnr(model: VideoDeblurNet, sequences: list[Video], device: torch.device) -> float:
+    """Mean PSNR of the restored validation frames against the sharp ones.
+
+    Parameters
+    ----------
+    model : VideoDeblurNet
+    sequences : list of (blurred, sharp)
+        uint8 (T, H, W, 3) pairs, each restored as one video.
+    device : torch.device
+
+    Returns
+    -------
+    float
+        Mean over all frames of the PSNR (eq. 6, data range 255), dB.
+    """
+    return mean_frame_psnr([(restore_sequence(model, blurred, device), sharp)
+                            for blurred, sharp in sequences])  # fmt: skip
+
+
+def train_video_deblur(
+    splits: dict[str, list[Video]],
+    out_dir: str | os.PathLike,
+    config: VideoTrainConfig | None = None,
+    progress: bool = True,
+    restart: bool = False,
+    stop_after: int | None = None,
+) -> dict:
+    """Train :class:`~blurloc.models.video_deblur.VideoDeblurNet` and keep its best validation.
+
+    ``best.pt`` holds the network with the best validation PSNR, ``last.pt`` (written at every
+    validation) the state to resume from. A run in ``out_dir`` with the same settings resumes
+    where it stopped, with the same numbers as an uninterrupted run.
+
+    Parameters
+    ----------
+    splits : dict
+        From :func:`load_video_splits` (``train`` and ``validation`` are used).
+    out_dir : str or os.PathLike
+        The run folder.
+    config : VideoTrainConfig, optional
+        Settings (defaults when None).
+    progress : bool
+        Show a progress bar.
+    restart : bool
+        Start afresh even if ``out_dir`` holds a run with other settings (replacing it).
+    stop_after : int, optional
+        End this call at the first validation after that many steps (a later call resumes).
+
+    Returns
+    -------
+    dict
+        History: ``step``, ``train_loss`` (mean over each validation interval), ``val_psnr``
+        (dB) and ``seconds``, one entry per validation.
+
+    Raises
+    ------
+    ValueError
+        If ``out_dir`` holds another model kind, a damaged checkpoint, or a run with other
+        settings (without ``restart``); or the device is not available.
+    """
+    config = config or VideoTrainConfig()
+    out_dir = Path(out_dir)
+    device = choose_device(config.device)
+    settings = {"train_config": config.settings()}
+    resumed = resume_state(out_dir, "video-deblur", settings, restart, device)
+    with fixed_threads(config.threads):
+        return _train(splits, out_dir, config, device, resumed, progress, stop_after)
+
+
+def _train(
+    splits: dict[str, list[Video]], out_dir: Path, config: VideoTrainConfig,
+    device: torch.device, resumed: dict | None, progress: bool, stop_after: int | None,
+) -> dict:  # fmt: skip
+    """The loop of :func:`train_video_deblur`, from scratch or from ``resumed``."""
+    seed_everything(config.seed)
+    rng = np.random.default_rng(config.seed)
+    model = VideoDeblurNet(config.model).to(device)
+    optimiser = torch.optim.Adam(model.parameters(), lr=config.lr)
+    schedule = torch.optim.lr_scheduler.CosineAnnealingLR(optimiser, config.steps, 1e-2 * config.lr)
+    history = {"step": [], "train_loss": [], "val_psnr": [], "seconds": []}
+    step, best, elapsed = 0, -np.inf, 0.0
+    if resumed is not None:
+        model.load_state_dict(resumed["model"])
+        optimiser.load_state_dict(resumed["optimiser"])
+        schedule.load_state_dict(resumed["schedule"])
+        step, history, best = resumed["step"], resumed["history"], resumed["best"]
+        rng.bit_generator.state = resumed["rng"]
+        torch.set_rng_state(resumed["torch_rng"])
+        elapsed = history["seconds"][-1] if history["seconds"] else 0.0
+    losses, started = [], time.perf_counter() - elapsed
+    bar = tqdm(total=config.steps, initial=step, disable=not progress, desc="video deblur")
+    first_step = step
+    while step < config.steps:
+        model.train()
+        blurred, sharp = _sample_clips(splits["train"], config, rng)
+        restored, _ = model(blurred.to(device))
+        loss = torch.sqrt((restored - sharp.to(device)) ** 2 + config.charbonnier_eps**2).mean()
+        optimiser.zero_grad()
+        loss.backward()
+        optimiser.step()
+        schedule.step()
+        losses.append(loss.item())
+        step += 1
+        bar.update()
+        if step % config.validate_every == 0 or step == config.steps:
+            psnr_db = validation_psnr(model, splits["validation"], device)
+            history["step"].append(step)
+            history["train_loss"].append(float(np.mean(losses)))
+            history["val_psnr"].append(psnr_db)
+            history["seconds"].append(time.perf_counter() - started)
+            losses = []
+            bar.set_postfix(val_psnr=f"{psnr_db:.2f}")
+            payload = {
+                "format": CHECKPOINT_FORMATS["video-deblur"],
+                "model_config": config.model.as_dict(), "model": model.state_dict(),
+                "step": step, "history": history, "train_config": config.settings(),
+                "val_psnr": psnr_db,
+            }  # fmt: skip
+            if psnr_db > best:
+                best = psnr_db
+                save_checkpoint(out_dir / "best.pt", payload)
+            save_checkpoint(out_dir / "last.pt", {
+                **payload, "optimiser": optimiser.state_dict(), "schedule": schedule.state_dict(),
+                "best": best, "rng": rng.bit_generator.state, "torch_rng": torch.get_rng_state(),
+            })  # fmt: skip
+            if stop_after is not None and step - first_step >= stop_after:
+                break
+    bar.close()
+    write_history(out_dir, history)
+    return history
