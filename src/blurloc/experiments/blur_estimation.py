@@ -8,6 +8,7 @@ import os
 
 import cv2
 import numpy as np
+from scipy.spatial.transform import Rotation
 from scipy.stats import spearmanr
 from tqdm.auto import tqdm
 
@@ -20,7 +21,8 @@ from ..blur import (
 )
 from ..data.sevenscenes import list_scenes, load_split, read_depth, read_image
 from ..data.stats import read_blur_metadata
-from ..geometry import intrinsics, rotation_angle_deg
+from ..geometry import intrinsics
+from ..poses import rotation_angles_deg
 from .estimation import angle_error_deg
 
 #: Estimated lengths below this (px) are reported as sharp (the deblurring pipeline's cut).
@@ -163,7 +165,8 @@ def camera_motion_px(poses: np.ndarray, distances_m: np.ndarray, focal_px: float
     poses = np.asarray(poses, float)
     after = np.minimum(np.arange(len(poses)) + 1, len(poses) - 1)
     before = np.maximum(np.arange(len(poses)) - 1, 0)
-    turn = np.radians(rotation_angle_deg(poses[before, :3, :3], poses[after, :3, :3]))
+    turn = np.radians(rotation_angles_deg(Rotation.from_matrix(poses[before, :3, :3]),
+                                          Rotation.from_matrix(poses[after, :3, :3])))
     shift = np.linalg.norm(poses[after, :3, 3] - poses[before, :3, 3], axis=1)
     steps = np.maximum(after - before, 1)
     return focal_px * (turn + shift / np.asarray(distances_m, float)) / steps
