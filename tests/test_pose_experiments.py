@@ -76,8 +76,9 @@ def test_pose_matrix_rows(
     assert row["orientation_deg_rmse"] == pytest.approx(0.0, abs=1e-6)
     assert row["combined"] == pytest.approx(0.5)
     assert row["mae"] == pytest.approx((0.3 + 0.4) / 7)
-    metres, degrees = ACCURACY_THRESHOLDS[1]
-    assert row[f"within_{metres:g}m_{degrees:g}deg"] == 1.0
+    # 0.5 m off: outside the 0.25 m threshold, inside the 5 m one (0.5 m itself is a tie)
+    for (metres, degrees), share in zip(ACCURACY_THRESHOLDS[::2], (0.0, 1.0), strict=True):
+        assert row[f"within_{metres:g}m_{degrees:g}deg"] == share
     assert len(frames) == 2 * count
     assert [f["index"] for f in frames[:count]] == list(range(count))
     assert all(f["position_m"] == pytest.approx(0.5) for f in frames)
