@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 from blurloc.data.render import (
-    linear_to_srgb,
     render,
     render_poses,
     render_reference,
@@ -15,6 +14,7 @@ from blurloc.data.render import (
 from blurloc.data.scenes import SCENE_NAMES
 from blurloc.data.synth import SynthConfig, sequence_trajectory
 from blurloc.geometry import intrinsics
+from blurloc.images import linear_to_srgb
 
 MIN_PSNR_DB = 40.0
 DEPTH_TOLERANCE_M = 1e-4

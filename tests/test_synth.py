@@ -59,9 +59,7 @@ def wall_scene(marker_center: tuple[float, float, float] | None = None) -> Scene
                 (40.0, 0.0, 0.0),
             )
         )  # bright red
-    return Scene(
-        "wall", tuple(quads), (Light((0.0, 0.0, 1.0), 4.0),), (0.0, 0.0, 0.0), (0.0, 3.0, 0.0)
-    )
+    return Scene("wall", tuple(quads), (Light((0.0, 0.0, 1.0), 4.0),))
 
 
 class LinearTrajectory:
@@ -284,8 +282,6 @@ def test_clearance_is_the_distance_to_the_nearest_surface() -> None:
         "room",
         tuple(room(4.0, 4.0, 2.5, ("brick", 1.0, (1, 1, 1)), ("brick", 1.0, (1, 1, 1)))),
         (),
-        (2, 2, 1),
-        (2, 3, 1),
     )
     clearance = scene.clearance(np.array([[2.0, 2.0, 1.0], [0.5, 2.0, 2.0], [5.0, 2.0, 1.0]]))
     np.testing.assert_allclose(clearance, [1.0, 0.5, -1.0])

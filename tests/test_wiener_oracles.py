@@ -9,7 +9,6 @@ import pytest
 
 from blurloc.blur import blur_image
 from blurloc.data import load_split, read_image
-from blurloc.data.render import linear_to_srgb, srgb_to_linear
 from blurloc.data.sevenscenes import read_depth
 from blurloc.data.synth import exposure_tracks, sequence_trajectory
 from blurloc.deconv import NSR_COEFFICIENT, NSR_EXPONENT
@@ -25,7 +24,7 @@ from blurloc.experiments.wiener_oracles import (
     standin_settings,
 )
 from blurloc.geometry import intrinsics
-from blurloc.images import as_float_image
+from blurloc.images import as_float_image, linear_to_srgb, srgb_to_linear
 from blurloc.metrics import psnr
 
 

@@ -19,22 +19,13 @@ import cv2
 import numpy as np
 import skimage.data
 
-GAMMA = 2.2
+from ..images import srgb_to_linear
+
 MIP_LEVELS = 5
 _MAX_TEXTURE_SIDE = 256
 _REMAP_CHUNK = 32_000  # cv2.remap maps must stay below 32767 per side: sample in chunks
 _NEAR = 1e-3  # metres: nearer surfaces are not seen
 _NO_HIT = 255  # quad index of pixels that see no surface (quad indices are uint8)
-
-
-def srgb_to_linear(image: np.ndarray) -> np.ndarray:
-    """[0, 1] gamma-encoded intensities to linear light (gamma 2.2, as the GoPro benchmark)."""
-    return np.power(np.clip(image, 0.0, 1.0), GAMMA)
-
-
-def linear_to_srgb(image: np.ndarray) -> np.ndarray:
-    """Linear light to [0, 1] gamma-encoded intensities (clipped: the sensor saturates)."""
-    return np.power(np.clip(image, 0.0, 1.0), 1.0 / GAMMA)
 
 
 def _checkerboard(squares: int = 8, square_px: int = 32) -> np.ndarray:
@@ -123,15 +114,15 @@ class Light:
 
 @dataclass(frozen=True)
 class Scene:
-    """Quads, lights and an ambient term, plus where a handheld camera looks from and at."""
+    """Quads, lights and an ambient term, and how close a handheld camera may come to a surface.
+
+    Where the camera walks and looks is :data:`blurloc.data.scenes.CAMERA_REGIONS`.
+    """
 
     name: str
     quads: tuple[Quad, ...]
     lights: tuple[Light, ...]
-    camera_center: tuple[float, float, float]
-    focus: tuple[float, float, float]
     ambient: float = 0.35
-    wander_s: float = 0.8  # correlation time of the handheld path (smaller: tighter path)
     min_clearance_m: float = 0.3  # the camera keeps at least this far from every surface
     arrays: dict = field(default_factory=dict, compare=False, repr=False)
 

@@ -151,8 +151,6 @@ def chess() -> Scene:
         "chess",
         tuple(quads),
         _lights((2.5, 2.0, 2.4), (1.0, 0.8, 2.3)),
-        camera_center=(2.5, 0.75, 1.35),
-        focus=(2.5, 2.0, 0.8),
     )
 
 
@@ -171,8 +169,6 @@ def fire() -> Scene:
         "fire",
         tuple(quads),
         _lights((2.2, 2.0, 2.5), (3.8, 0.8, 2.0)),
-        camera_center=(2.3, 1.4, 1.3),
-        focus=(2.25, 3.6, 1.0),
     )
 
 
@@ -189,9 +185,6 @@ def heads() -> Scene:
         "heads",
         tuple(quads),
         _lights((1.2, 1.0, 2.3), power=2.4),
-        camera_center=(1.35, 0.75, 1.15),
-        focus=(1.5, 1.6, 0.85),
-        wander_s=0.45,
     )
 
 
@@ -210,8 +203,6 @@ def office() -> Scene:
         "office",
         tuple(quads),
         _lights((2.0, 2.5, 2.6), (4.5, 3.0, 2.6)),
-        camera_center=(3.0, 1.6, 1.4),
-        focus=(3.0, 3.9, 0.9),
     )
 
 
@@ -228,8 +219,6 @@ def pumpkin() -> Scene:
         "pumpkin",
         tuple(quads),
         _lights((2.0, 2.0, 2.5), (0.8, 1.0, 2.3)),
-        camera_center=(2.0, 1.5, 1.3),
-        focus=(2.0, 3.5, 1.0),
     )
 
 
@@ -251,9 +240,6 @@ def redkitchen() -> Scene:
         "redkitchen",
         tuple(quads),
         _lights((1.8, 1.5, 2.5), (5.0, 1.5, 2.5)),
-        camera_center=(3.2, 1.2, 1.45),
-        focus=(3.2, 2.7, 0.9),
-        wander_s=1.0,
     )
 
 
@@ -289,8 +275,6 @@ def stairs() -> Scene:
         "stairs",
         tuple(quads),
         _lights((1.2, 1.5, 3.5), (1.2, 4.5, 3.8)),
-        camera_center=(1.2, 0.9, 1.4),
-        focus=(1.2, 3.2, 1.1),
     )
 
 

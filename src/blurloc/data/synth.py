@@ -47,7 +47,8 @@ from ..geometry import (
     make_pose,
     project,
 )
-from .render import Scene, linear_to_srgb, render_poses, render_reference, surface_depth
+from ..images import to_uint8
+from .render import Scene, render_poses, render_reference, surface_depth
 from .scenes import SCENE_NAMES, SEQUENCE_COUNTS, camera_region, make_scene
 
 #: Per-frame motion of the real 7-Scenes trajectories (30 fps, handheld Kinect), from DESIGN.md.
@@ -383,14 +384,6 @@ def render_exposure(
             sharp, depth = images[middle - first], depths[middle - first]
     blurred = (total / samples).astype(np.float32)
     return blurred, sharp, depth, BlurInfo(mean_px, max_px, angle, samples)
-
-
-def to_uint8(linear: np.ndarray, noise: np.ndarray | None = None) -> np.ndarray:
-    """Gamma-encode linear light, add noise (on [0, 1] intensities) and quantise to uint8."""
-    encoded = linear_to_srgb(linear)
-    if noise is not None:
-        encoded = encoded + noise
-    return np.round(np.clip(encoded, 0.0, 1.0) * 255.0).astype(np.uint8)
 
 
 def split_sequences(scene: str, config: SynthConfig) -> tuple[list[int], list[int]]:

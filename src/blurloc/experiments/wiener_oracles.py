@@ -16,13 +16,12 @@ from scipy.stats import linregress
 from tqdm.auto import tqdm
 
 from ..blur import blur_image, estimate_noise_sigma, motion_kernel, trajectory_kernel
-from ..data.render import linear_to_srgb, srgb_to_linear
 from ..data.sevenscenes import list_scenes, load_split, read_depth, read_image
 from ..data.stats import read_blur_metadata
 from ..data.synth import STANDIN_MANIFEST, SynthConfig, exposure_tracks, sequence_trajectory
 from ..deconv import blind_kernel, estimate_nsr, wiener_deconvolve
 from ..geometry import intrinsics
-from ..images import as_float_image
+from ..images import as_float_image, linear_to_srgb, srgb_to_linear
 from ..metrics import psnr, ssim
 from ..paper import paper_values
 
