@@ -13,8 +13,8 @@ from blurloc.data.render import linear_to_srgb, srgb_to_linear
 from blurloc.data.sevenscenes import read_depth
 from blurloc.data.synth import exposure_tracks, sequence_trajectory
 from blurloc.deconv import NSR_COEFFICIENT, NSR_EXPONENT
-from blurloc.evaluation import photo_crops
 from blurloc.experiments.blur_estimation import estimation_rows, estimation_summary
+from blurloc.experiments.estimation import photo_crops
 from blurloc.experiments.wiener_oracles import (
     VARIANTS,
     exposure_kernel,
@@ -81,8 +81,11 @@ def test_oracle_rows_and_tables(quick_root: Path) -> None:
 
 def test_estimation_rows_against_recorded_blur(quick_root: Path) -> None:
     rows = estimation_rows(quick_root, "test")
-    assert len(rows) == 12  # 8 chess frames, 4 stairs frames
+    assert len(rows) == 24  # 8 chess frames, 4 stairs frames, each with its sharp render
+    assert [r["kind"] for r in rows[:2]] == ["color", "sharp"] and rows[1]["extent_px"] == 0.0
     assert all(0 <= r["estimated_angle_deg"] < 180 and r["estimated_length_px"] >= 0 for r in rows)
     summary = {r["measure"]: r for r in estimation_summary(rows)}
     assert summary["median angle error (deg), extent >= 4 px"]["target"] == "<= 10"
     assert all(isinstance(r["met"], bool) for r in summary.values())
+    assert summary["Spearman(estimated length, recorded extent)"]["frames"] == 12
+    assert summary["passed, extent < 1 px and sharp renders"]["frames"] >= 12
