@@ -13,7 +13,12 @@ from blurloc.data.render import linear_to_srgb, srgb_to_linear
 from blurloc.data.sevenscenes import read_depth
 from blurloc.data.synth import exposure_tracks, sequence_trajectory
 from blurloc.deconv import NSR_COEFFICIENT, NSR_EXPONENT
-from blurloc.experiments.blur_estimation import estimation_rows, estimation_summary
+from blurloc.experiments.blur_estimation import (
+    estimation_rows,
+    estimation_summary,
+    length_training_set,
+    photo_training_set,
+)
 from blurloc.experiments.estimation import photo_crops
 from blurloc.experiments.wiener_oracles import (
     VARIANTS,
@@ -89,3 +94,15 @@ def test_estimation_rows_against_recorded_blur(quick_root: Path) -> None:
     assert all(isinstance(r["met"], bool) for r in summary.values())
     assert summary["Spearman(estimated length, recorded extent)"]["frames"] == 12
     assert summary["passed, extent < 1 px and sharp renders"]["frames"] >= 12
+
+
+def test_length_training_examples(quick_root: Path) -> None:
+    features, extents = length_training_set(quick_root, "train", sharp_every=4)
+    assert features.shape == (12 + 3, 63)  # 8 + 4 frames, sharp renders of frames 0, 4 and 0
+    assert (extents == 0).sum() >= 3 and (extents > 0).sum() >= 10
+    # rows: frame 0, its sharp render, frames 1-4, frame 4's sharp render, ...
+    assert extents[1] == 0 and extents[6] == 0 and extents[0] > 0
+    assert features[6][-3] > features[1][-3] + 0.2  # log noise σ: frame 4's sharp render is noisy
+    photo_features, photo_extents = photo_training_set(count=12, seed=1)
+    assert photo_features.shape == (12, 63) and (photo_extents >= 0).all()
+    assert 0 < (photo_extents == 0).sum() < 12 and photo_extents.max() <= 12.5
