@@ -9,9 +9,10 @@ import skimage.data
 from scipy.stats import spearmanr
 
 from blurloc.blur import (
-    LENGTH_COEFFICIENTS,
+    LengthModel,
     blur_features,
     blur_image,
+    default_length_model,
     estimate_motion_blur,
     fit_length_model,
     log_power_spectrum,
@@ -123,15 +124,23 @@ def test_small_trajectory_blur_in_small_frames() -> None:
     assert spearmanr(lengths, extents).statistic >= 0.6
 
 
-def test_length_model_fit_recovers_a_linear_rule() -> None:
+def test_length_model_fits_a_smooth_rule_and_round_trips(tmp_path) -> None:
     rng = np.random.default_rng(0)
-    features = rng.normal(size=(200, 12))
-    truth = np.append(rng.normal(size=12), 3.0)
-    extents = features @ truth[:-1] + truth[-1]
-    np.testing.assert_allclose(fit_length_model(features, extents, ridge=1e-6), truth, atol=1e-4)
-    shrunk = fit_length_model(features, extents, ridge=1e3)
-    assert np.linalg.norm(shrunk[:-1]) < 0.5 * np.linalg.norm(truth[:-1])
-    assert len(LENGTH_COEFFICIENTS) == blur_features(np.zeros((120, 160))).values.size + 1
+    features = rng.normal(size=(400, 6))
+    extents = 3.0 + 2.0 * np.tanh(features[:, 0]) + features[:, 1] ** 2 / 2
+    model = fit_length_model(features[:300], extents[:300], steps=500)
+    held_out = np.abs(model.predict(features[300:]) - extents[300:])
+    assert np.median(held_out) < 0.25 * np.median(np.abs(extents[300:] - extents[:300].mean()))
+    model.save(tmp_path / "model.npz")
+    np.testing.assert_array_equal(
+        LengthModel.load(tmp_path / "model.npz").predict(features), model.predict(features)
+    )
+
+
+def test_shipped_length_model_reads_the_features() -> None:
+    model = default_length_model()
+    assert model.mean.size == blur_features(np.zeros((120, 160))).values.size
+    assert model.layers[-1][0].shape[0] == 1
 
 
 @pytest.mark.parametrize(

@@ -12,7 +12,12 @@ from blurloc.data import load_split, read_image
 from blurloc.data.sevenscenes import read_depth
 from blurloc.data.synth import exposure_tracks, sequence_trajectory
 from blurloc.deconv import NSR_COEFFICIENT, NSR_EXPONENT
-from blurloc.experiments.blur_estimation import estimation_rows, estimation_summary
+from blurloc.experiments.blur_estimation import (
+    estimation_rows,
+    estimation_summary,
+    length_training_set,
+    photo_training_set,
+)
 from blurloc.experiments.estimation import photo_crops
 from blurloc.experiments.wiener_oracles import (
     VARIANTS,
@@ -80,8 +85,23 @@ def test_oracle_rows_and_tables(quick_root: Path) -> None:
 
 def test_estimation_rows_against_recorded_blur(quick_root: Path) -> None:
     rows = estimation_rows(quick_root, "test")
-    assert len(rows) == 12  # 8 chess frames, 4 stairs frames
+    assert len(rows) == 24  # 8 chess frames, 4 stairs frames, each with its sharp render
+    assert [r["kind"] for r in rows[:2]] == ["color", "sharp"] and rows[1]["extent_px"] == 0.0
     assert all(0 <= r["estimated_angle_deg"] < 180 and r["estimated_length_px"] >= 0 for r in rows)
     summary = {r["measure"]: r for r in estimation_summary(rows)}
     assert summary["median angle error (deg), extent >= 4 px"]["target"] == "<= 10"
     assert all(isinstance(r["met"], bool) for r in summary.values())
+    assert summary["Spearman(estimated length, recorded extent)"]["frames"] == 12
+    assert summary["passed, extent < 1 px and sharp renders"]["frames"] >= 12
+
+
+def test_length_training_examples(quick_root: Path) -> None:
+    features, extents = length_training_set(quick_root, "train", sharp_every=4)
+    assert features.shape == (12 + 3, 63)  # 8 + 4 frames, sharp renders of frames 0, 4 and 0
+    assert (extents == 0).sum() >= 3 and (extents > 0).sum() >= 10
+    # rows: frame 0, its sharp render, frames 1-4, frame 4's sharp render, ...
+    assert extents[1] == 0 and extents[6] == 0 and extents[0] > 0
+    assert features[6][-3] > features[1][-3] + 0.2  # log noise σ: frame 4's sharp render is noisy
+    photo_features, photo_extents = photo_training_set(count=12, seed=1)
+    assert photo_features.shape == (12, 63) and (photo_extents >= 0).all()
+    assert 0 < (photo_extents == 0).sum() < 12 and photo_extents.max() <= 12.5

@@ -10,12 +10,13 @@ from __future__ import annotations
 
 import functools
 import itertools
+import os
 from dataclasses import dataclass
+from pathlib import Path
 
 import cv2
 import numpy as np
 import scipy.fft
-import scipy.linalg
 
 from .images import as_float_image, check_image
 
@@ -195,38 +196,6 @@ def estimate_noise_sigma(image: np.ndarray) -> float:
 
 #: Smallest image side (px) on which blur can be detected or estimated.
 MIN_ANALYSIS_SIDE = 16
-#: Frequency bands of :func:`blur_score`, in cycles per pixel.
-MID_BAND = (0.03, 0.10)
-HIGH_BAND = (0.25, 0.40)
-#: Score above which :func:`detect_blur` calls an image blurred. Calibrated by
-#: :func:`calibrate_blur_threshold` on the stand-in's training split (notebook 01 recomputes it).
-BLUR_THRESHOLD = 4.82
-
-
-def blur_score(image: np.ndarray, window: int = 256) -> float:
-    """Spectral fall-off: ln(mean power in MID_BAND / mean power in HIGH_BAND) of the Welch log
-    spectrum. Blur removes high frequencies, so the score grows with blur (natural sharp images,
-    whose power falls as 1/f^2, score about 2 ln(0.32 / 0.065) ~ 3). Images with a side under
-    MIN_ANALYSIS_SIDE px are refused (ValueError): their spectrum has no bins in the bands."""
-    if min(np.shape(image)[:2]) < MIN_ANALYSIS_SIDE:
-        raise ValueError(f"image too small to detect blur: {np.shape(image)[:2]} "
-                         f"(needs >= {MIN_ANALYSIS_SIDE} px)")  # fmt: skip
-    power = np.exp(log_power_spectrum(image, window))
-    size = power.shape[0]
-    fy, fx = np.mgrid[-(size // 2) : size - size // 2, -(size // 2) : size - size // 2]
-    radius = np.hypot(fx, fy) / size
-
-    def band(limits: tuple[float, float]) -> float:
-        return float(power[(radius >= limits[0]) & (radius < limits[1])].mean())
-
-    return float(np.log(band(MID_BAND) / band(HIGH_BAND)))
-
-
-def detect_blur(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> tuple[bool, float]:
-    """Whether ``image`` is motion-blurred (its :func:`blur_score` exceeds ``threshold``), and
-    the score."""
-    score = blur_score(image)
-    return score > threshold, score
 
 
 def calibrate_blur_threshold(scores: np.ndarray, blurred: np.ndarray) -> float:
@@ -340,14 +309,9 @@ def _analyse(gray: np.ndarray, window: int, around_deg: float) -> tuple[float, f
 ANALYSIS_SIDE = 120
 _TILE = 64  # Welch tile (px) at the analysis scale
 _ANGLES, _RADII = 36, 14  # polar bins of the half-plane spectrum: 5° sectors, log-spaced rings
-_BANDS = ((0, 4), (4, 8), (8, 11), (11, 14))  # rings averaged into four frequency bands
-#: Ridge coefficients (12 band features of :func:`blur_features`, then the intercept) mapping the
-#: features to the blur extent in px at the analysis scale. Fitted by :func:`fit_length_model`
-#: (ridge 1.0) on training sequences of the stand-in (7 scenes x 4 sequences of 60 frames, stairs
-#: 30, at 160x120, seed 0: 1560 frames);
-#: notebook 01 refits them and compares.
-LENGTH_COEFFICIENTS = (2.2423, -0.6516, -0.2058, 0.2236, -2.0666, 0.3014, 0.3027, -0.2706,
-                       -4.5484, 2.3547, -0.4720, -1.4669, 2.0064)  # fmt: skip
+#: Length model shipped with the package: :func:`fit_length_model` on the stand-in's training
+#: split (notebook 01 refits it and compares).
+LENGTH_MODEL_PATH = Path(__file__).parent / "weights" / "blur_length.npz"
 #: Coarse estimates at least this long (px of the image given) are refined from the sinc zeros.
 SINC_MIN_PX = 6.0
 
@@ -373,27 +337,35 @@ def _polar_bins(size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _analysis_copy(image: np.ndarray) -> tuple[np.ndarray, float]:
-    """Gray copy at the analysis scale and the factor (>= 1) from its pixels to the image's."""
-    gray = to_gray(check_image(image))
+    """Gray float32 copy at the analysis scale and the factor (>= 1) from its pixels to the
+    image's."""
+    gray = to_gray(check_image(image)).astype(np.float32, copy=False)
     short = min(gray.shape)
     if short < MIN_ANALYSIS_SIDE:
         raise ValueError(f"image too small to estimate blur: {gray.shape} "
                          f"(needs >= {MIN_ANALYSIS_SIDE} px)")  # fmt: skip
     if short <= ANALYSIS_SIDE:
-        return gray.astype(np.float32), 1.0
+        return gray, 1.0
     factor = short / ANALYSIS_SIDE
     size = (round(gray.shape[1] / factor), round(gray.shape[0] / factor))
     return cv2.resize(gray, size, interpolation=cv2.INTER_AREA), factor
 
 
+def _log_energy(values: np.ndarray) -> float:
+    return float(np.log(np.mean(np.square(values, dtype=np.float64)) + 1e-12))
+
+
 @dataclass(frozen=True)
 class BlurFeatures:
-    """What the small-blur estimator reads off an image's spectrum (see :func:`blur_features`).
+    """What the blur estimator reads off an image (see :func:`blur_features`).
 
-    ``values`` (12,): log power, relative to the lowest frequencies, in four frequency bands along
-    the motion direction, across it, and over all directions; ``angle_deg``: the motion direction
-    (module conventions); ``anisotropy``: how strongly the fall-off depends on direction (0 for an
-    isotropic spectrum); ``scale``: image px per analysis px.
+    ``values`` (63,): the log power spectrum, relative to its lowest frequencies, in 14 rings
+    along the motion direction, 14 across it, 14 over all directions, and 14 over all directions
+    without the noise floor removed; the log energies of the gradient, of the Laplacian, of the
+    gradient at half size and of the image; the log noise σ; the anisotropy; the log of
+    ``scale`` (a 640x480 frame's copy holds finer texture than a 160x120 frame). ``angle_deg``: the
+    motion direction (module conventions); ``anisotropy``: how strongly the spectrum's fall-off
+    depends on direction (0 for an isotropic spectrum); ``scale``: image px per analysis px.
     """
 
     values: np.ndarray
@@ -403,15 +375,18 @@ class BlurFeatures:
 
 
 def blur_features(image: np.ndarray) -> BlurFeatures:
-    """Spectral fall-off features of an image, for blur of about 1-15 px at 160x120.
+    """Spectral and gradient features of an image, for blur of about 1-15 px at 160x120.
 
     The image is area-averaged to a short side of ANALYSIS_SIDE px; its Welch power spectrum
     (Hann tiles of 64 px, half overlap) minus the white-noise floor (Immerkær's σ of the gray
     image) is averaged in 36 direction sectors x 14 log-spaced rings. Blur of length L along d
     multiplies the spectrum by |sinc(L f·d)|^2, so the power falls off fastest along d: the
     direction is the phase of the second angular harmonic of each sector's fall-off (log power in
-    the lowest third of the rings minus the highest half). Works where the sinc zeros lie beyond
-    the Nyquist frequency or are filled in by non-linear camera paths.
+    the lowest third of the rings minus the highest half). The radial profiles along d, across d
+    and over all directions, each relative to the lowest rings, describe the fall-off; the
+    profile across d is the scene's own spectrum, against which the one along d shows the blur.
+    Gradient energies at two scales (Crété-Roffet et al.'s re-blur idea: blur removes the fine
+    gradients, not the coarse ones) and the noise σ complete them.
 
     Parameters
     ----------
@@ -421,13 +396,15 @@ def blur_features(image: np.ndarray) -> BlurFeatures:
     Returns
     -------
     BlurFeatures
-        The 12 band values, the direction (degrees, y up), the anisotropy and the scale.
+        The 63 values, the direction (degrees, y up), the anisotropy and the scale.
 
     References
     ----------
     Yitzhaky and Kopeika, "Identification of blur parameters from motion blurred images", CVGIP
     1997: the motion direction is where the blurred image loses most high-frequency energy.
-    Welch, IEEE Trans. Audio Electroacoust. 1967 (averaged periodograms). Immerkær, CVIU 1996.
+    Crété-Roffet, Dolmière, Ladret and Nicolas, "The blur effect: perception and estimation with
+    a new no-reference perceptual blur metric", SPIE 2007. Welch, IEEE Trans. Audio
+    Electroacoust. 1967 (averaged periodograms). Immerkær, CVIU 1996.
     """
     gray, scale = _analysis_copy(image)
     size = min(_TILE, min(gray.shape) // 2 * 2)
@@ -442,7 +419,8 @@ def blur_features(image: np.ndarray) -> BlurFeatures:
     index, counts, sectors = _polar_bins(size)
     inside = index >= 0
     binned = np.bincount(index[inside], power[inside], minlength=counts.size) / counts
-    noise = estimate_noise_sigma(gray) ** 2
+    sigma = estimate_noise_sigma(gray)
+    noise = sigma**2
     log_power = np.log(np.maximum(binned - noise, 0.1 * noise + 1e-12)).reshape(_ANGLES, _RADII)
     falloff = log_power[:, : _RADII // 3].mean(axis=1) - log_power[:, -_RADII // 2 :].mean(axis=1)
     harmonic = (falloff * np.exp(2j * sectors)).sum()
@@ -450,62 +428,177 @@ def blur_features(image: np.ndarray) -> BlurFeatures:
     along = int(np.rint(direction / np.pi * _ANGLES)) % _ANGLES
     across = (along + _ANGLES // 2) % _ANGLES
     reference = log_power[:, :2].mean()
-
-    def bands(profile: np.ndarray) -> list[float]:
-        return [float(profile[a:b].mean() - reference) for a, b in _BANDS]
-
     neighbours = np.arange(-1, 2)
-    values = np.array(bands(log_power[(along + neighbours) % _ANGLES].mean(axis=0))
-                      + bands(log_power[(across + neighbours) % _ANGLES].mean(axis=0))
-                      + bands(log_power.mean(axis=0)))  # fmt: skip
+    raw = np.log(binned + 1e-12).reshape(_ANGLES, _RADII).mean(axis=0)
+    half = cv2.resize(gray, None, fx=0.5, fy=0.5, interpolation=cv2.INTER_AREA)
+    gradients = [
+        float(np.logaddexp(_log_energy(cv2.Sobel(copy, cv2.CV_32F, 1, 0)),
+                           _log_energy(cv2.Sobel(copy, cv2.CV_32F, 0, 1))))
+        for copy in (gray, half)
+    ]  # fmt: skip
+    anisotropy = float(abs(harmonic) / _ANGLES)
+    values = np.concatenate([
+        log_power[(along + neighbours) % _ANGLES].mean(axis=0) - reference,
+        log_power[(across + neighbours) % _ANGLES].mean(axis=0) - reference,
+        log_power.mean(axis=0) - reference,
+        raw - raw[:2].mean(),
+        [gradients[0], _log_energy(cv2.Laplacian(gray, cv2.CV_32F)), gradients[1],
+         float(np.log(gray.var(dtype=np.float64) + 1e-12)), float(np.log(sigma + 1e-6)),
+         anisotropy, float(np.log(scale))],
+    ])  # fmt: skip
     angle = float(np.degrees(np.arctan2(-np.sin(direction), np.cos(direction))) % 180.0)
-    return BlurFeatures(values, angle, float(abs(harmonic) / _ANGLES), scale)
+    return BlurFeatures(values, angle, anisotropy, scale)
+
+
+@dataclass(frozen=True)
+class LengthModel:
+    """A small multilayer perceptron from :func:`blur_features` values to the blur extent (px at
+    the analysis scale): standardised features, tanh hidden layers, one linear output.
+
+    ``mean`` and ``spread`` (k,) standardise the features; ``layers`` holds each layer's weight
+    (out, in) and bias (out,).
+    """
+
+    mean: np.ndarray
+    spread: np.ndarray
+    layers: tuple[tuple[np.ndarray, np.ndarray], ...]
+
+    def predict(self, values: np.ndarray) -> np.ndarray:
+        """Extents (N,) in px at the analysis scale from feature values (N, k) or (k,)."""
+        hidden = (np.atleast_2d(values) - self.mean) / self.spread
+        for number, (weight, bias) in enumerate(self.layers):
+            hidden = hidden @ weight.T + bias
+            if number < len(self.layers) - 1:
+                hidden = np.tanh(hidden)
+        return hidden[:, 0]
+
+    def save(self, path: str | os.PathLike) -> None:
+        """Write the model to an ``.npz`` file."""
+        arrays = {"mean": self.mean, "spread": self.spread}
+        for number, (weight, bias) in enumerate(self.layers):
+            arrays[f"weight{number}"], arrays[f"bias{number}"] = weight, bias
+        np.savez(path, **arrays)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> LengthModel:
+        """Read a model written by :meth:`save`."""
+        with np.load(path) as arrays:
+            count = sum(name.startswith("weight") for name in arrays.files)
+            layers = tuple((arrays[f"weight{n}"], arrays[f"bias{n}"]) for n in range(count))
+            return cls(arrays["mean"], arrays["spread"], layers)
+
+
+@functools.cache
+def default_length_model() -> LengthModel:
+    """The shipped length model (LENGTH_MODEL_PATH), read once."""
+    return LengthModel.load(LENGTH_MODEL_PATH)
 
 
 def fit_length_model(
-    features: np.ndarray, extents_px: np.ndarray, ridge: float = 1.0
-) -> np.ndarray:
-    """Ridge regression of the blur extent on :func:`blur_features` values.
+    features: np.ndarray,
+    extents_px: np.ndarray,
+    hidden: int = 32,
+    steps: int = 300,
+    weight_decay: float = 1e-3,
+    seed: int = 0,
+) -> LengthModel:
+    """Fit the length model: a two-hidden-layer tanh perceptron, least squares, full-batch Adam.
 
     Parameters
     ----------
     features : np.ndarray
-        (N, 12) feature values of N training frames (``BlurFeatures.values``).
+        (N, k) feature values of N training frames (``BlurFeatures.values``).
     extents_px : np.ndarray
-        (N,) recorded blur extents, px at the analysis scale.
-    ridge : float
-        Penalty on the coefficients of the standardised features.
+        (N,) recorded blur extents, px at the analysis scale (0 for sharp frames).
+    hidden : int
+        Units per hidden layer.
+    steps : int
+        Adam steps (learning rate 0.01) on the whole set.
+    weight_decay : float
+        L2 penalty on the weights (Adam's ``weight_decay``).
+    seed : int
+        Seed of the initial weights.
 
     Returns
     -------
-    np.ndarray
-        (13,) coefficients on the raw features, then the intercept (LENGTH_COEFFICIENTS' form).
+    LengthModel
+        The fitted model.
     """
-    features, extents = np.asarray(features, float), np.asarray(extents_px, float)
+    import torch
+
+    features = np.asarray(features, np.float64)
+    extents = np.asarray(extents_px, np.float64)
     if features.ndim != 2 or len(features) != len(extents) or len(extents) < 2:
         raise ValueError("features must be (N, k) and extents (N,), N >= 2")
+    if not (np.isfinite(features).all() and np.isfinite(extents).all()):
+        raise ValueError("features and extents must be finite")
     mean, spread = features.mean(axis=0), features.std(axis=0) + 1e-9
-    standard = (features - mean) / spread
-    count = features.shape[1]
-    design = np.vstack([np.column_stack([standard, np.ones(len(standard))]),
-                        np.sqrt(ridge) * np.eye(count, count + 1)])  # fmt: skip
-    target = np.concatenate([extents, np.zeros(count)])
-    weights = scipy.linalg.lstsq(design, target)[0]
-    slopes = weights[:count] / spread
-    return np.append(slopes, weights[count] - slopes @ mean)
+    generator = torch.Generator().manual_seed(seed)
+    sizes = (features.shape[1], hidden, hidden, 1)
+    linear = [torch.nn.Linear(a, b) for a, b in itertools.pairwise(sizes)]
+    with torch.no_grad():
+        for layer in linear:  # PyTorch's default initialisation, drawn from our generator
+            bound = 1.0 / np.sqrt(layer.in_features)
+            layer.weight.uniform_(-bound, bound, generator=generator)
+            layer.bias.uniform_(-bound, bound, generator=generator)
+    network = torch.nn.Sequential(linear[0], torch.nn.Tanh(), linear[1], torch.nn.Tanh(),
+                                  linear[2])  # fmt: skip
+    inputs = torch.tensor((features - mean) / spread, dtype=torch.float32)
+    target = torch.tensor(extents, dtype=torch.float32)
+    optimiser = torch.optim.Adam(network.parameters(), lr=1e-2, weight_decay=weight_decay)
+    for _ in range(steps):
+        optimiser.zero_grad()
+        loss = ((network(inputs).squeeze(1) - target) ** 2).mean()
+        loss.backward()
+        optimiser.step()
+    layers = tuple(
+        (layer.weight.detach().numpy().astype(np.float64),
+         layer.bias.detach().numpy().astype(np.float64))
+        for layer in linear
+    )  # fmt: skip
+    return LengthModel(mean, spread, layers)
 
 
-def estimate_motion_blur(image: np.ndarray, window: int = 256) -> BlurEstimate:
+def length_from_features(features: BlurFeatures, model: LengthModel | None = None) -> float:
+    """Coarse blur length (px of the image the features came from, >= 0) by the length model
+    (default: the shipped one)."""
+    model = model or default_length_model()
+    return max(float(model.predict(features.values)[0]), 0.0) * features.scale
+
+
+#: Estimated length (px) above which :func:`detect_blur` calls an image blurred. Chosen by
+#: :func:`calibrate_blur_threshold` on the stand-in's training split (frames with >= 3 px of
+#: blur against sharp renders and frames under 1 px; notebook 01 recomputes it).
+BLUR_THRESHOLD = 1.72
+
+
+def blur_score(image: np.ndarray) -> float:
+    """Blur score of an image: its coarse blind blur length in px (:func:`blur_features` and the
+    length model, without the sinc refinement). Grows with blur; about 0 for sharp frames.
+    Images with a side under MIN_ANALYSIS_SIDE px are refused (ValueError)."""
+    return length_from_features(blur_features(image))
+
+
+def detect_blur(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> tuple[bool, float]:
+    """Whether ``image`` is motion-blurred (its :func:`blur_score`, the estimated blur length in
+    px, exceeds ``threshold``), and the score."""
+    score = blur_score(image)
+    return score > threshold, score
+
+
+def estimate_motion_blur(
+    image: np.ndarray, window: int = 256, features: BlurFeatures | None = None
+) -> BlurEstimate:
     """Blind estimate of the length and angle of motion blur, from 1 px to tens of px.
 
-    Coarse, for any blur: :func:`blur_features` gives the direction; a ridge model on its band
-    values (LENGTH_COEFFICIENTS, fitted on the stand-in's training split) gives the extent.
+    Coarse, for any blur: :func:`blur_features` gives the direction; the length model (a small
+    perceptron on the features, fitted on the stand-in's training split) gives the extent.
     Fine, for long linear blur (coarse length >= SINC_MIN_PX): the sinc zeros of the log
     spectrum of a copy area-averaged to a short side of at most ``window`` px, whitened by its
     radial mean, searched by Radon projection (3° grid within 12° of the coarse direction,
     refined to 0.1°) and fitted by log sinc^2(L r / N) (L on a 0.5 px grid, refined to
     0.02 px); kept when it agrees with the coarse estimate (half to four times its length, since
-    the coarse model, fitted on blur up to about 10 px, underestimates long blur; direction within
+    the coarse model, fitted on blur up to about 15 px, underestimates long blur; direction within
     20°), which rejects the zeros of content or noise.
 
     Parameters
@@ -514,6 +607,8 @@ def estimate_motion_blur(image: np.ndarray, window: int = 256) -> BlurEstimate:
         (H, W) or (H, W, 3) image, uint8 or float in [0, 1]; short side >= 16 px.
     window : int
         Tile size (px) of the spectrum used for the fine estimate.
+    features : BlurFeatures, optional
+        ``blur_features(image)`` when the caller has them already (blind deblurring).
 
     Returns
     -------
@@ -529,10 +624,8 @@ def estimate_motion_blur(image: np.ndarray, window: int = 256) -> BlurEstimate:
     deconvolution", IbPRIA 2007 (length and angle from the zeros of the sinc in the spectrum);
     the paper's Section III.A.1 (estimate θ and L, then eq. 4).
     """
-    features = blur_features(image)
-    coefficients = np.asarray(LENGTH_COEFFICIENTS)
-    coarse = max(float(features.values @ coefficients[:-1] + coefficients[-1]), 0.0)
-    length, angle = coarse * features.scale, features.angle_deg
+    features = features or blur_features(image)
+    length, angle = length_from_features(features), features.angle_deg
     if length >= SINC_MIN_PX and min(np.shape(image)[:2]) >= 64:
         gray = to_gray(image)
         factor = max(1.0, min(gray.shape) / window)  # one tile is enough: average down to it

@@ -13,10 +13,11 @@ import scipy.fft
 
 from .blur import (
     BLUR_THRESHOLD,
+    blur_features,
     check_kernel,
-    detect_blur,
     estimate_motion_blur,
     estimate_noise_sigma,
+    length_from_features,
 )
 from .images import check_image, like_input
 
@@ -94,17 +95,14 @@ def inverse_filter(image: np.ndarray, kernel: np.ndarray, threshold: float = 1e-
     return like_input(_filter(image, kernel, response), image)
 
 
-#: Estimated blur shorter than this (px) is left alone by :func:`deblur_blind`.
-MIN_BLUR_PX = 1.5
-
-
 def blind_kernel(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> np.ndarray | None:
     """The kernel blind deblurring uses for ``image``: the linear kernel estimated from the
-    spectrum, or None when the detector finds no blur or the estimate is below MIN_BLUR_PX."""
-    if not detect_blur(image, threshold)[0]:
+    spectrum, or None when the detector finds no blur (the coarse length estimate, which is the
+    detector's score, is at most ``threshold`` px). The features are computed once for both."""
+    features = blur_features(image)
+    if length_from_features(features) <= threshold:
         return None
-    estimate = estimate_motion_blur(image)
-    return None if estimate.length_px < MIN_BLUR_PX else estimate.kernel()
+    return estimate_motion_blur(image, features=features).kernel()
 
 
 def deblur_blind(
@@ -112,8 +110,8 @@ def deblur_blind(
 ) -> np.ndarray:
     """Blind deblurring: detect blur (:func:`~blurloc.blur.detect_blur`), estimate its length and
     angle from the spectrum (:func:`~blurloc.blur.estimate_motion_blur`), undo it by Wiener
-    deconvolution (eq. 4). An image judged sharp, or whose estimated blur is shorter than
-    MIN_BLUR_PX, is returned unchanged (as a copy). Keeps the dtype like :func:`wiener_deconvolve`.
+    deconvolution (eq. 4). An image judged sharp is returned unchanged (as a copy). Keeps the
+    dtype like :func:`wiener_deconvolve`.
     """
     kernel = blind_kernel(image, threshold)
     return image.copy() if kernel is None else wiener_deconvolve(image, kernel, nsr)
