@@ -82,6 +82,7 @@ POSE_TEXTS = {
     "nan": "1 0 0 0\n0 1 0 0\n0 0 1 nan\n0 0 0 1\n",
     "inf": "1 0 0 0\n0 1 0 inf\n0 0 1 0\n0 0 0 1\n",
     "skewed": "1.1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n",
+    "mirrored": "-1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n",
     "3x3": "1 0 0\n0 1 0\n0 0 1\n",
 }
 
@@ -94,6 +95,7 @@ POSE_TEXTS = {
         ("pose", lambda p: p.write_text(POSE_TEXTS["nan"]), "NaN or inf"),
         ("pose", lambda p: p.write_text(POSE_TEXTS["inf"]), "NaN or inf"),
         ("pose", lambda p: p.write_text(POSE_TEXTS["skewed"]), "not orthonormal"),
+        ("pose", lambda p: p.write_text(POSE_TEXTS["mirrored"]), "not a rotation: determinant -1"),
         ("pose", lambda p: p.write_text(POSE_TEXTS["3x3"]), "16 numbers"),
         ("color", lambda p: p.write_bytes(b"\x89PNG\r\n\x1a\n broken"), "cannot be read"),
     ],
@@ -103,6 +105,7 @@ POSE_TEXTS = {
         "nan-pose",
         "inf-pose",
         "non-orthonormal",
+        "mirrored",
         "wrong-shape",
         "unreadable-image",
     ],

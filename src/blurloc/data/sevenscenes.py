@@ -23,7 +23,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from ..files import decode_image
-from ..geometry import orthonormality_error
+from ..geometry import rotation_defect
 
 SPLIT_FILES = {"train": "TrainSplit.txt", "test": "TestSplit.txt"}
 ROTATION_TOLERANCE = 1e-2  # real 7-Scenes rotations are orthonormal to about 4e-4
@@ -51,12 +51,9 @@ def read_pose(path: str | os.PathLike) -> np.ndarray:
         raise DataError(f"{path}: pose holds NaN or inf")
     if not np.allclose(pose[3], [0, 0, 0, 1], atol=ROTATION_TOLERANCE):
         raise DataError(f"{path}: last row of the pose must be 0 0 0 1, found {pose[3]}")
-    error = orthonormality_error(pose[:3, :3])
-    if error > ROTATION_TOLERANCE or np.linalg.det(pose[:3, :3]) <= 0:
-        raise DataError(
-            f"{path}: rotation is not orthonormal (max |R^T R - I| = {error:.3g} > "
-            f"{ROTATION_TOLERANCE}, or det <= 0)"
-        )
+    defect = rotation_defect(pose[:3, :3], ROTATION_TOLERANCE)
+    if defect:
+        raise DataError(f"{path}: {defect}")
     return pose
 
 
