@@ -70,7 +70,8 @@ class PoseTrainConfig:
     The paper's: images resized to 256 and cropped to 224, Adam, lr 5e-5, weight decay 3e-4,
     50 epochs, batch 64, dropout 0.6, beta 0.8. CPU-scale defaults here (a 1000-frame scene in
     minutes on 2 cores): 64 px short side, 56 px crops, a small ResNet, lr 1e-3 (lr 5e-5 barely
-    moves in 15 epochs), 15 epochs, batch 16 windows of 4 frames; weight decay, dropout and beta
+    moves in 15 epochs) decayed per step by a cosine to 1 % of it, 15 epochs, batch 16 windows
+    of 4 frames; weight decay, dropout and beta
     as in the paper. ``image`` is the frame kind read (``color``; ``sharp`` on the stand-in for
     the upper bound); ``threads`` intra-op CPU threads (fixed for reproducible numbers).
 

@@ -139,12 +139,16 @@ def _train(
     weighting = LearnedWeighting().to(device) if config.learned_weighting else None
     parameters = list(model.parameters()) + (list(weighting.parameters()) if weighting else [])
     optimiser = torch.optim.Adam(parameters, lr=config.lr, weight_decay=config.weight_decay)
+    schedule = torch.optim.lr_scheduler.CosineAnnealingLR(  # per step, to 1 % of lr at the end
+        optimiser, config.epochs * len(loader), 1e-2 * config.lr
+    )
     history = {"epoch": [], "train_loss": [], "val_position_m": [], "val_orientation_deg": [],
                "seconds": []}  # fmt: skip
     epoch, best = 0, np.inf
     if resumed is not None:
         model.load_state_dict(resumed["model"])
         optimiser.load_state_dict(resumed["optimiser"])
+        schedule.load_state_dict(resumed["schedule"])
         if weighting is not None:
             weighting.load_state_dict(resumed["weighting"])
         epoch, history, best = resumed["epoch"], resumed["history"], resumed["best"]
@@ -169,6 +173,7 @@ def _train(
             optimiser.zero_grad()
             loss.backward()
             optimiser.step()
+            schedule.step()
             losses.append(loss.item())
         epoch += 1
         pair = predict_poses(model, validation, validation_config, device, cache)
@@ -187,7 +192,8 @@ def _train(
             best = score
             save_checkpoint(out_dir / "best.pt", payload)
         save_checkpoint(out_dir / "last.pt", {
-            **payload, "optimiser": optimiser.state_dict(), "best": best,
+            **payload, "optimiser": optimiser.state_dict(), "schedule": schedule.state_dict(),
+            "best": best,
             "weighting": weighting.state_dict() if weighting else None,
             "torch_rng": torch.get_rng_state(),
         })  # fmt: skip
