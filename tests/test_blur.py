@@ -173,3 +173,13 @@ def test_shipped_length_model_reads_the_features() -> None:
 def test_bad_input_is_refused(call, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         call()
+
+
+def test_detection_rates_count_each_class() -> None:
+    from blurloc.blur import detection_rates
+
+    scores = np.array([0.5, 2.0, 3.0, 1.0, 0.2, 2.5])
+    blurred = np.array([False, True, True, True, False, False])
+    flagged, passed, balanced = detection_rates(scores, blurred, 1.5)
+    assert flagged == pytest.approx(2 / 3) and passed == pytest.approx(2 / 3)
+    assert balanced == pytest.approx(2 / 3)

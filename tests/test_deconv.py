@@ -132,3 +132,29 @@ def test_metrics_equal_scikit_image(channels: int | None) -> None:
 def test_bad_input_is_refused(call, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         call()
+
+
+def test_accuracy_by_noise_summarises_each_level_in_order() -> None:
+    from blurloc.experiments.estimation import accuracy_by_noise
+
+    trials = [{"noise_sigma": s, "angle_error_deg": a, "length_error_px": e}
+              for s, a, e in ((0.0, 1.0, 0.5), (0.01, 5.0, 3.0), (0.0, 3.0, 0.2))]
+    rows = accuracy_by_noise(trials)
+    assert [r["noise_sigma"] for r in rows] == [0.0, 0.01]
+    assert rows[0]["trials"] == 2 and rows[0]["angle_median_deg"] == 2.0
+    assert rows[0]["within_2deg_1px"] == 0.5 and rows[1]["within_2deg_1px"] == 0.0
+
+
+def test_per_scene_table_means_scenes_and_sets_paper_values_beside() -> None:
+    from blurloc.experiments.deblurring import paper_fig6_7, per_scene_table
+
+    rows = [{"method": m, "scene": s, "psnr_db": p, "ssim": 0.5}
+            for m, s, p in (("blurred", "chess", 30.0), ("blurred", "chess", 32.0),
+                            ("blurred", "fire", 20.0), ("wiener", "chess", 25.0),
+                            ("wiener", "fire", 21.0))]
+    table = per_scene_table(rows)
+    assert [r["scene"] for r in table] == ["chess", "fire", "mean"]
+    assert table[0]["blurred_psnr_db"] == 31.0 and table[2]["blurred_psnr_db"] == 25.5
+    assert table[0]["frames"] == 2 and table[2]["frames"] == 3
+    assert table[0]["paper_psnr_db"] == paper_fig6_7("chess")["paper_psnr_db"] is not None
+    assert paper_fig6_7("no such scene") == {"paper_psnr_db": None, "paper_ssim": None}

@@ -206,10 +206,34 @@ def calibrate_blur_threshold(scores: np.ndarray, blurred: np.ndarray) -> float:
         raise ValueError("calibration needs both blurred and sharp examples")
     candidates = np.sort(scores)
     cuts = (candidates[:-1] + candidates[1:]) / 2
-    accuracy = [
-        ((scores[blurred] > c).mean() + (scores[~blurred] <= c).mean()) / 2 for c in cuts
-    ]
+    accuracy = [detection_rates(scores, blurred, c)[2] for c in cuts]
     return float(cuts[int(np.argmax(accuracy))])
+
+
+def detection_rates(
+    scores: np.ndarray, blurred: np.ndarray, threshold: float
+) -> tuple[float, float, float]:
+    """How a threshold on blur scores separates blurred from sharp frames.
+
+    Parameters
+    ----------
+    scores : numpy.ndarray
+        (N,) blur scores (:func:`blur_score`).
+    blurred : numpy.ndarray
+        (N,) bool, True for frames that are blurred; both classes must be present.
+    threshold : float
+        Frames scoring above it are flagged as blurred.
+
+    Returns
+    -------
+    flagged, passed, balanced : float
+        Share of blurred frames flagged, share of sharp frames passed, and their mean
+        (balanced accuracy).
+    """
+    scores, blurred = np.asarray(scores, float), np.asarray(blurred, bool)
+    flagged = float((scores[blurred] > threshold).mean())
+    passed = float((scores[~blurred] <= threshold).mean())
+    return flagged, passed, (flagged + passed) / 2
 
 
 @dataclass(frozen=True)

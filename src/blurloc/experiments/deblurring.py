@@ -14,6 +14,7 @@ from ..data.sevenscenes import list_scenes, load_split, read_image
 from ..deconv import blind_kernel, wiener_deconvolve
 from ..images import as_float_image
 from ..metrics import psnr, ssim
+from ..paper import paper_values
 
 
 def _per_channel(restore: Callable[[np.ndarray], np.ndarray], image: np.ndarray) -> np.ndarray:
@@ -191,4 +192,61 @@ def per_scene_means(rows: list[dict], metric: str) -> dict[str, dict[str, float]
                                         if r["method"] == method and r["scene"] == scene]))
                   for scene in scenes}  # fmt: skip
         table[method] = {**values, "mean": float(np.mean(list(values.values())))}
+    return table
+
+
+def paper_fig6_7(scene: str) -> dict[str, float | None]:
+    """The PSNR and SSIM the paper printed after Wiener deblurring for one scene.
+
+    Parameters
+    ----------
+    scene : str
+        A 7-Scenes scene name, or ``"mean"`` for the mean over the printed scenes.
+
+    Returns
+    -------
+    dict
+        ``paper_psnr_db`` and ``paper_ssim`` (printed numbers, not measured here; None for a
+        scene the paper did not print).
+
+    References
+    ----------
+    Fig. 6 (PSNR) and Fig. 7 (SSIM) of the paper.
+    """
+    row = {}
+    for metric, item in (("psnr_db", "fig6"), ("ssim", "fig7")):
+        printed = paper_values(item, metric)
+        value = np.mean(list(printed.values())) if scene == "mean" else printed.get(scene)
+        row[f"paper_{metric}"] = None if value is None else round(float(value), 4)
+    return row
+
+
+def per_scene_table(rows: list[dict]) -> list[dict]:
+    """Per scene (and the mean of the per-scene means): every method's PSNR and SSIM, beside
+    the paper's Fig. 6-7 values.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Per-frame rows of :func:`evaluate_deblurring` (``method``, ``scene``, ``psnr_db``,
+        ``ssim``; the ``blurred`` method counts the frames).
+
+    Returns
+    -------
+    list of dict
+        One row per scene and a ``mean`` row: ``frames``, ``<method>_psnr_db`` (2 decimals),
+        ``<method>_ssim`` (4 decimals), ``paper_psnr_db`` and ``paper_ssim``.
+    """
+    measured = {metric: per_scene_means(rows, metric) for metric in ("psnr_db", "ssim")}
+    scenes = [s for s in measured["psnr_db"]["blurred"] if s != "mean"]
+    table = []
+    for scene in [*scenes, "mean"]:
+        row = {"scene": scene, "frames": sum(1 for r in rows if r["method"] == "blurred"
+                                             and scene in ("mean", r["scene"]))}  # fmt: skip
+        paper = paper_fig6_7(scene)
+        for metric in ("psnr_db", "ssim"):
+            for method, values in measured[metric].items():
+                row[f"{method}_{metric}"] = round(values[scene], 4 if metric == "ssim" else 2)
+            row[f"paper_{metric}"] = paper[f"paper_{metric}"]
+        table.append(row)
     return table

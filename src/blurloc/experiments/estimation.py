@@ -113,3 +113,34 @@ def estimation_trials(
             "angle_error_deg": float(angle_error_deg(estimate.angle_deg, angle)),
         })  # fmt: skip
     return rows
+
+
+def accuracy_by_noise(trials: list[dict]) -> list[dict]:
+    """Angle and length errors of blind estimation trials, summarised per noise level.
+
+    Parameters
+    ----------
+    trials : list of dict
+        Rows of :func:`estimation_trials` (``noise_sigma``, ``angle_error_deg``,
+        ``length_error_px``).
+
+    Returns
+    -------
+    list of dict
+        Per noise level, in first-seen order: ``trials``, median and 90th percentile of the
+        angle (degrees) and length (px) errors, and the share of trials within 2° and 1 px.
+    """
+    summary = []
+    for sigma in dict.fromkeys(r["noise_sigma"] for r in trials):
+        subset = [r for r in trials if r["noise_sigma"] == sigma]
+        angle = np.array([r["angle_error_deg"] for r in subset])
+        length = np.array([r["length_error_px"] for r in subset])
+        summary.append({
+            "noise_sigma": sigma, "trials": len(subset),
+            "angle_median_deg": round(float(np.median(angle)), 2),
+            "angle_p90_deg": round(float(np.percentile(angle, 90)), 2),
+            "length_median_px": round(float(np.median(length)), 2),
+            "length_p90_px": round(float(np.percentile(length, 90)), 2),
+            "within_2deg_1px": round(float(np.mean((angle <= 2) & (length <= 1))), 3),
+        })  # fmt: skip
+    return summary

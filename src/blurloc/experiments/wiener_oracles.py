@@ -23,7 +23,7 @@ from ..deconv import blind_kernel, estimate_nsr, wiener_deconvolve
 from ..geometry import intrinsics
 from ..images import as_float_image, linear_to_srgb, srgb_to_linear
 from ..metrics import psnr, ssim
-from ..paper import paper_values
+from .deblurring import paper_fig6_7
 
 #: The runs, each (kernel, intensity space, NSR): one ingredient changes between neighbours.
 VARIANTS = {
@@ -242,7 +242,6 @@ def per_scene_table(rows: list[dict]) -> list[dict]:
     """Per scene (and their mean): PSNR and SSIM of the blurred input, blind Wiener and the
     oracle-kernel Wiener (true path, linear light, best NSR), beside the paper's Fig. 6-7
     values (labelled ``paper_``; printed numbers, not measured here)."""
-    paper_psnr, paper_ssim = paper_values("fig6", "psnr_db"), paper_values("fig7", "ssim")
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
     table = []
     for scene in [*scenes, "mean"]:
@@ -254,8 +253,5 @@ def per_scene_table(rows: list[dict]) -> list[dict]:
                                       if r["variant"] == variant and r["scene"] == s])
                              for s in (scenes if scene == "mean" else [scene])]  # fmt: skip
                 row[f"{label}_{metric}"] = round(float(np.mean(per_scene)), 4)
-        for metric, printed in (("psnr_db", paper_psnr), ("ssim", paper_ssim)):
-            value = np.mean(list(printed.values())) if scene == "mean" else printed.get(scene)
-            row[f"paper_{metric}"] = None if value is None else round(float(value), 4)
-        table.append(row)
+        table.append({**row, **paper_fig6_7(scene)})
     return table
