@@ -161,6 +161,50 @@ def paper_vs_reproduction(measured: dict[tuple[str, str, str, str], float]) -> l
     return rows
 
 
+def ratios_by_item(comparison: list[dict]) -> dict[str, list[float]]:
+    """Measured ÷ printed ratios grouped by printed item and metric.
+
+    Parameters
+    ----------
+    comparison : list of dict
+        :func:`paper_vs_reproduction`; rows without a measured counterpart are left out.
+
+    Returns
+    -------
+    dict of str to list of float
+        ``{"item · metric": [ratio, ...]}`` in order of first appearance.
+    """
+    groups: dict[str, list[float]] = {}
+    for row in comparison:
+        if row["measured"] != "":
+            groups.setdefault(f"{row['item']} · {row['metric']}", []).append(row["ratio"])
+    return groups
+
+
+def proposed_measured_vs_printed(
+    comparison: list[dict], item: str, metric: str, scene: str = "average"
+) -> str:
+    """One number of the paper's own method, measured beside printed, as text.
+
+    Parameters
+    ----------
+    comparison : list of dict
+        :func:`paper_vs_reproduction`.
+    item, metric : str
+        Printed item (e.g. ``table3``) and metric (e.g. ``position_m``).
+    scene : str
+        Scene name or ``average``.
+
+    Returns
+    -------
+    str
+        ``"<measured> (printed <printed>)"``, measured to two decimals.
+    """
+    row = next(r for r in comparison if r["item"] == item and r["metric"] == metric
+               and r["method"] == "Proposed" and r["scene"] == scene)  # fmt: skip
+    return f"{row['measured']:.2f} (printed {row['printed']:g})"
+
+
 def _groups(item: str | None = None) -> dict[tuple[str, str, str, str], dict[str, float]]:
     """{(source, item, method, metric): {scene: value}} over the printed rows."""
     groups: dict[tuple[str, str, str, str], dict[str, float]] = defaultdict(dict)
