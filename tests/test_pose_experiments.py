@@ -11,6 +11,7 @@ from scipy.spatial.transform import Rotation
 import blurloc.experiments.pose as pose_experiments
 from blurloc.data import load_split
 from blurloc.experiments.pose import (
+    condition_errors_text,
     condition_roots,
     errors_text,
     long_sequence_rows,
@@ -158,6 +159,12 @@ def test_long_sequence_rows_and_their_text() -> None:
     assert errors_text(rows, "chess", "mean training pose", "-") == "1.000 m / 10.00°"
     with pytest.raises(StopIteration):
         errors_text(rows, "chess", "rnn", "lstm")
+
+
+def test_condition_errors_text_reads_both_heads() -> None:
+    assert condition_errors_text(SUMMARIES, "blurred") == (
+        "blurred: 0.200 m / 4.00° (LSTM), 1.000 m / 20.00° (single frame)"
+    )
 
 
 def test_median_step_and_the_papers_drop() -> None:

@@ -389,6 +389,29 @@ def errors_text(rows: list[dict], scene: str, condition: str, head: str) -> str:
     return f"{row['position_m']:.3f} m / {row['orientation_deg']:.2f}°"
 
 
+def condition_errors_text(summaries: list[dict], condition: str) -> str:
+    """One condition's errors as text: the mean over scenes of the median position and
+    orientation errors, LSTM then single frame, e.g. ``rnn: 0.412 m / 9.87° (LSTM), ...``.
+
+    Parameters
+    ----------
+    summaries : list of dict
+        Rows of :func:`run_pose_matrix` with the ``lstm`` and ``none`` heads of ``condition``.
+    condition : str
+        E.g. ``blurred``.
+
+    Returns
+    -------
+    str
+        Metres with 3 decimals (eq. 12), degrees with 2 (eq. 13).
+    """
+    return "{}: {:.3f} m / {:.2f}° (LSTM), {:.3f} m / {:.2f}° (single frame)".format(
+        condition,
+        *(scene_mean(summaries, condition, head, key) for head in ("lstm", "none")
+          for key in ("position_m_median", "orientation_deg_median")),
+    )  # fmt: skip
+
+
 def median_step(positions: np.ndarray) -> float:
     """The median distance between consecutive camera positions: how smooth a path is.
 
