@@ -115,6 +115,25 @@ def test_per_scene_bars_and_error_distributions() -> None:
     assert [bar.get_height() for bar in figure.axes[1].containers[0]] == [30.0, 29.0]
 
 
+def test_pose_training_curves_and_predicted_paths() -> None:
+    histories = {"lstm": {"epoch": [1, 2, 3], "train_loss": [3.0, 2.0, 1.5],
+                          "val_position_m": [0.9, 0.7, 0.6]},
+                 "none": {"epoch": [1, 2, 3], "train_loss": [3.1, 2.5, 2.2],
+                          "val_position_m": [1.0, 0.95, 0.9]}}  # fmt: skip
+    figure = plots.plot_pose_training_curves(histories)
+    loss, position = figure.axes
+    assert [line.get_label() for line in position.get_lines()] == ["lstm", "none"]
+    assert list(loss.get_lines()[1].get_ydata()) == [3.1, 2.5, 2.2]
+    assert list(position.get_lines()[0].get_ydata()) == [0.9, 0.7, 0.6]
+    truth = np.cumsum(np.ones((5, 3)), axis=0)
+    paths = {"lstm": truth + 0.1, "none": truth - 0.2}
+    figure = plots.plot_predicted_paths(truth, paths, {"lstm": "a", "none": "b"})
+    assert [axis.get_title() for axis in figure.axes] == ["a", "b"]
+    true_line, predicted = figure.axes[1].get_lines()
+    assert np.allclose(true_line.get_data_3d(), truth.T)
+    assert np.allclose(predicted.get_data_3d(), paths["none"].T)
+
+
 def test_standin_figures_draw_the_frames_they_are_given(quick_root: Path) -> None:
     frames = first_test_frames(quick_root)
     figure = plots.plot_scene_gallery(frames)

@@ -10,8 +10,22 @@ from scipy.spatial.transform import Rotation
 
 import blurloc.experiments.pose as pose_experiments
 from blurloc.data import load_split
-from blurloc.experiments.pose import condition_roots, mean_pose_baseline, run_pose_matrix
+from blurloc.experiments.pose import (
+    condition_errors_text,
+    condition_roots,
+    errors_text,
+    long_sequence_rows,
+    mean_pose_baseline,
+    median_step,
+    paper_deblur_drop,
+    paper_table_rows,
+    per_scene,
+    pose_overview,
+    run_pose_matrix,
+    scene_mean,
+)
 from blurloc.metrics import ACCURACY_THRESHOLDS
+from blurloc.paper import paper_values
 from blurloc.poses import PosePair
 from blurloc.train.config import PoseTrainConfig
 
@@ -82,3 +96,81 @@ def test_pose_matrix_rows(
     assert len(frames) == 2 * count
     assert [f["index"] for f in frames[:count]] == list(range(count))
     assert all(f["position_m"] == pytest.approx(0.5) for f in frames)
+
+
+def _summary(scene: str, condition: str, head: str, scale: float) -> dict:
+    """A made-up row of run_pose_matrix, every error proportional to ``scale``."""
+    return {"scene": scene, "condition": condition, "head": head, "train_seconds": 1.0,
+            "position_m_median": 0.1 * scale, "orientation_deg_median": 2.0 * scale,
+            "mae": 0.01 * scale, "mse": 0.001 * scale, "rmse": 0.03 * scale,
+            "combined": 0.123456 * scale}  # fmt: skip
+
+
+SUMMARIES = [_summary("chess", "blurred", "lstm", 1.0), _summary("fire", "blurred", "lstm", 3.0),
+             _summary("chess", "rnn", "lstm", 0.5), _summary("fire", "rnn", "lstm", 1.5),
+             _summary("chess", "blurred", "none", 10.0)]  # fmt: skip
+BASELINE = {scene: {"position_m": {"median": value}, "orientation_deg": {"median": 10 * value},
+                    "combined": value / 2}
+            for scene, value in (("chess", 1.0), ("fire", 2.0))}  # fmt: skip
+
+
+def test_per_scene_and_scene_mean_select_one_run() -> None:
+    assert per_scene(SUMMARIES, "blurred", "lstm", "combined") == pytest.approx(
+        {"chess": 0.123456, "fire": 0.370368}
+    )
+    assert per_scene(SUMMARIES, "blurred", "none", "mae") == {"chess": pytest.approx(0.1)}
+    assert per_scene(SUMMARIES, "sharp", "lstm", "mae") == {}
+    assert scene_mean(SUMMARIES, "rnn", "lstm", "position_m_median") == pytest.approx(0.1)
+    assert np.isnan(scene_mean(SUMMARIES, "sharp", "lstm", "mae"))
+
+
+def test_pose_overview_averages_scenes_and_ends_with_the_baseline() -> None:
+    rows = pose_overview(SUMMARIES, [("blurred", "lstm"), ("rnn", "lstm")], BASELINE)
+    assert [(r["condition"], r["head"]) for r in rows] == [
+        ("blurred", "lstm"),
+        ("rnn", "lstm"),
+        ("mean training pose", "-"),
+    ]
+    assert rows[0] == {"condition": "blurred", "head": "lstm", "position_m": 0.2,
+                       "orientation_deg": 4.0, "combined": 0.2469}  # fmt: skip
+    assert rows[-1] == {"condition": "mean training pose", "head": "-", "position_m": 1.5,
+                        "orientation_deg": 15.0, "combined": 0.75}  # fmt: skip
+
+
+def test_paper_table_rows_set_measured_beside_printed() -> None:
+    rows = paper_table_rows(SUMMARIES, ["chess", "fire"], "table2", "proposed_deblurred", "rnn")
+    assert [(r["scene"], r["source"]) for r in rows] == [
+        ("chess", "measured"),
+        ("chess", "paper"),
+        ("fire", "measured"),
+        ("fire", "paper"),
+    ]
+    assert rows[0] == {"scene": "chess", "source": "measured", "mae": 0.005, "mse": 0.0005,
+                       "rmse": 0.015, "combined": 0.0617}  # fmt: skip
+    assert rows[3]["combined"] == paper_values("table2", "combined", "proposed_deblurred")["fire"]
+    assert list(rows[1]) == ["scene", "source", "mae", "mse", "rmse", "combined"]
+
+
+def test_long_sequence_rows_and_their_text() -> None:
+    rows = long_sequence_rows(SUMMARIES[:2], BASELINE, {"chess": 40, "fire": 60})
+    assert [r["train_frames"] for r in rows] == [40, 60, "", ""]
+    assert rows[1]["orientation_deg"] == 6.0 and rows[2]["train_seconds"] == ""
+    assert errors_text(rows, "fire", "blurred", "lstm") == "0.300 m / 6.00°"
+    assert errors_text(rows, "chess", "mean training pose", "-") == "1.000 m / 10.00°"
+    with pytest.raises(StopIteration):
+        errors_text(rows, "chess", "rnn", "lstm")
+
+
+def test_condition_errors_text_reads_both_heads() -> None:
+    assert condition_errors_text(SUMMARIES, "blurred") == (
+        "blurred: 0.200 m / 4.00° (LSTM), 1.000 m / 20.00° (single frame)"
+    )
+
+
+def test_median_step_and_the_papers_drop() -> None:
+    path = np.array([[0.0, 0, 0], [3, 4, 0], [3, 4, 1], [3, 4, 3]])
+    assert median_step(path) == pytest.approx(2.0)
+    table1, table2 = paper_values("table1", "combined"), paper_values("table2", "combined")
+    drop = paper_deblur_drop()
+    assert drop == pytest.approx(np.mean(list(table1.values())) - np.mean(list(table2.values())))
+    assert drop > 0

@@ -1,6 +1,7 @@
 """The pose experiments of notebooks 04-05: the matrix of trainings (per scene, train on one kind
 of input frames, blurred, blind-Wiener, network-deblurred or sharp, with one head, test on the
-same kind), the mean-pose baseline, and a saved model's per-frame predictions."""
+same kind), the mean-pose baseline, a saved model's per-frame predictions, and the tables built
+from the matrix's summaries (the overview, Tables I-II beside the paper, the long sequences)."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from ..data.scenes import REAL_MEAN_POSE_BASELINE
 from ..data.sevenscenes import list_scenes, load_split
 from ..inference import load_pose_model, predict_poses
 from ..metrics import combined_errors, orientation_errors_deg, pose_summary, position_errors
+from ..paper import paper_values
 from ..poses import PosePair, to_quaternions
 from ..train.config import PoseTrainConfig
 from ..train.pose import train_pose
@@ -197,3 +199,246 @@ def predict_test_frames(model_path: str | os.PathLike, root: str | os.PathLike, 
             "true_quaternion": pair.reference_quaternions,
             "position_error": position_errors(pair),
             "orientation_error": orientation_errors_deg(pair)}  # fmt: skip
+
+
+def per_scene(summaries: list[dict], condition: str, head: str, key: str) -> dict[str, float]:
+    """One column of the matrix's summaries, per scene, for one (condition, head) run.
+
+    Parameters
+    ----------
+    summaries : list of dict
+        Rows of :func:`run_pose_matrix` (``scene``, ``condition``, ``head`` and the metrics).
+    condition, head : str
+        The run, e.g. ``("blurred", "lstm")``.
+    key : str
+        The column, e.g. ``position_m_median`` (eq. 12, metres), ``orientation_deg_median``
+        (eq. 13, degrees), ``mae``/``mse``/``rmse`` (eq. 15-17) or ``combined`` (eq. 14).
+
+    Returns
+    -------
+    dict
+        ``{scene: value}`` in the rows' order.
+    """
+    return {row["scene"]: row[key] for row in summaries
+            if row["condition"] == condition and row["head"] == head}  # fmt: skip
+
+
+def scene_mean(summaries: list[dict], condition: str, head: str, key: str) -> float:
+    """The mean over scenes of one column of one run (:func:`per_scene`).
+
+    Parameters
+    ----------
+    summaries : list of dict
+        Rows of :func:`run_pose_matrix`.
+    condition, head : str
+        The run.
+    key : str
+        The column (see :func:`per_scene`).
+
+    Returns
+    -------
+    float
+        Mean of the per-scene values (NaN when the run has no rows).
+    """
+    values = list(per_scene(summaries, condition, head, key).values())
+    return float(np.mean(values)) if values else float("nan")
+
+
+def pose_overview(
+    summaries: list[dict], runs: list[tuple[str, str]], baseline: dict[str, dict]
+) -> list[dict]:
+    """The overview table: per run, the median errors averaged over scenes, then the mean
+    training pose as the last row.
+
+    Parameters
+    ----------
+    summaries : list of dict
+        Rows of :func:`run_pose_matrix`.
+    runs : list of (str, str)
+        (condition, head) pairs, in the table's order.
+    baseline : dict
+        ``{scene: mean_pose_baseline(...)}`` (:func:`mean_pose_baseline`).
+
+    Returns
+    -------
+    list of dict
+        ``condition``, ``head``, ``position_m`` (median eq. 12, metres, 3 decimals),
+        ``orientation_deg`` (median eq. 13, degrees, 2 decimals) and ``combined`` (mean eq. 14,
+        4 decimals), each averaged over the scenes.
+
+    References
+    ----------
+    Eq. 12-14 of the paper.
+    """
+    rows = [{"condition": condition, "head": head,
+             "position_m": round(scene_mean(summaries, condition, head, "position_m_median"), 3),
+             "orientation_deg": round(scene_mean(summaries, condition, head,
+                                                 "orientation_deg_median"), 2),
+             "combined": round(scene_mean(summaries, condition, head, "combined"), 4)}
+            for condition, head in runs]  # fmt: skip
+    rows.append({"condition": "mean training pose", "head": "-",
+                 "position_m": round(float(np.mean([b["position_m"]["median"]
+                                                    for b in baseline.values()])), 3),
+                 "orientation_deg": round(float(np.mean([b["orientation_deg"]["median"]
+                                                         for b in baseline.values()])), 2),
+                 "combined": round(float(np.mean([b["combined"]
+                                                  for b in baseline.values()])), 4)})  # fmt: skip
+    return rows
+
+
+def paper_table_rows(
+    summaries: list[dict], scenes: list[str], item: str, method: str, condition: str
+) -> list[dict]:
+    """A table in the paper's columns: per scene, the measured LSTM row beside the printed one.
+
+    Parameters
+    ----------
+    summaries : list of dict
+        Rows of :func:`run_pose_matrix`.
+    scenes : list of str
+        Scene names, in the table's order.
+    item : str
+        The printed table, ``table1`` or ``table2``.
+    method : str
+        The printed method, e.g. ``proposed_blurred``.
+    condition : str
+        The measured condition (LSTM head) set beside it, e.g. ``blurred`` or ``rnn``.
+
+    Returns
+    -------
+    list of dict
+        Two rows per scene (``source`` ``measured`` then ``paper``) with ``mae``, ``mse``,
+        ``rmse`` (eq. 15-17 over the pose vector) and ``combined`` (eq. 14, beta 0.8); measured
+        values rounded to 4 decimals, printed ones as printed (None where not printed).
+
+    References
+    ----------
+    Tables I-II and eq. 14-17 of the paper.
+    """
+    metrics = ("mae", "mse", "rmse", "combined")
+    measured = {metric: per_scene(summaries, condition, "lstm", metric) for metric in metrics}
+    printed = {metric: paper_values(item, metric, method) for metric in metrics}
+    rows = []
+    for scene in scenes:
+        measured_row = {metric: round(measured[metric][scene], 4) for metric in metrics}
+        rows.append({"scene": scene, "source": "measured"} | measured_row)
+        rows.append({"scene": scene, "source": "paper"}
+                    | {metric: printed[metric].get(scene) for metric in metrics})  # fmt: skip
+    return rows
+
+
+def long_sequence_rows(
+    summaries: list[dict], baseline: dict[str, dict], train_frames: dict[str, int]
+) -> list[dict]:
+    """The table of the runs on longer sequences: one row per run and scene, then the mean
+    training pose per scene.
+
+    Parameters
+    ----------
+    summaries : list of dict
+        Rows of :func:`run_pose_matrix`.
+    baseline : dict
+        ``{scene: mean_pose_baseline(...)}``.
+    train_frames : dict
+        ``{scene: number of training frames}``.
+
+    Returns
+    -------
+    list of dict
+        ``scene``, ``condition``, ``head``, ``train_frames``, ``train_seconds``,
+        ``position_m`` (median eq. 12, 3 decimals), ``orientation_deg`` (median eq. 13,
+        2 decimals), ``combined`` (mean eq. 14, 4 decimals); the baseline rows have empty
+        ``train_frames`` and ``train_seconds``.
+    """
+    rows = [{"scene": r["scene"], "condition": r["condition"], "head": r["head"],
+             "train_frames": train_frames[r["scene"]], "train_seconds": r["train_seconds"],
+             "position_m": round(r["position_m_median"], 3),
+             "orientation_deg": round(r["orientation_deg_median"], 2),
+             "combined": round(r["combined"], 4)} for r in summaries]  # fmt: skip
+    rows += [{"scene": s, "condition": "mean training pose", "head": "-", "train_frames": "",
+              "train_seconds": "", "position_m": round(b["position_m"]["median"], 3),
+              "orientation_deg": round(b["orientation_deg"]["median"], 2),
+              "combined": round(b["combined"], 4)} for s, b in baseline.items()]  # fmt: skip
+    return rows
+
+
+def errors_text(rows: list[dict], scene: str, condition: str, head: str) -> str:
+    """One row's median position / orientation error as text, e.g. ``0.412 m / 9.87°``.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows with ``scene``, ``condition``, ``head``, ``position_m`` and ``orientation_deg``
+        (:func:`long_sequence_rows`).
+    scene, condition, head : str
+        The row.
+
+    Returns
+    -------
+    str
+        Metres with 3 decimals, degrees with 2.
+
+    Raises
+    ------
+    StopIteration
+        If no row matches.
+    """
+    row = next(
+        r for r in rows if r["scene"] == scene and r["condition"] == condition and r["head"] == head
+    )
+    return f"{row['position_m']:.3f} m / {row['orientation_deg']:.2f}°"
+
+
+def condition_errors_text(summaries: list[dict], condition: str) -> str:
+    """One condition's errors as text: the mean over scenes of the median position and
+    orientation errors, LSTM then single frame, e.g. ``rnn: 0.412 m / 9.87° (LSTM), ...``.
+
+    Parameters
+    ----------
+    summaries : list of dict
+        Rows of :func:`run_pose_matrix` with the ``lstm`` and ``none`` heads of ``condition``.
+    condition : str
+        E.g. ``blurred``.
+
+    Returns
+    -------
+    str
+        Metres with 3 decimals (eq. 12), degrees with 2 (eq. 13).
+    """
+    return "{}: {:.3f} m / {:.2f}° (LSTM), {:.3f} m / {:.2f}° (single frame)".format(
+        condition,
+        *(scene_mean(summaries, condition, head, key) for head in ("lstm", "none")
+          for key in ("position_m_median", "orientation_deg_median")),
+    )  # fmt: skip
+
+
+def median_step(positions: np.ndarray) -> float:
+    """The median distance between consecutive camera positions: how smooth a path is.
+
+    Parameters
+    ----------
+    positions : numpy.ndarray
+        Camera positions (N, 3), metres, in frame order.
+
+    Returns
+    -------
+    float
+        Median of the N - 1 step lengths, metres.
+    """
+    return float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1)))
+
+
+def paper_deblur_drop() -> float:
+    """The paper's drop of the combined error from Table I (blurred) to Table II (deblurred).
+
+    Returns
+    -------
+    float
+        Mean over the printed scenes of Table I's combined error minus that of Table II.
+
+    References
+    ----------
+    Tables I-II and eq. 14 of the paper.
+    """
+    return float(np.mean(list(paper_values("table1", "combined").values()))
+                 - np.mean(list(paper_values("table2", "combined").values())))  # fmt: skip

@@ -3,7 +3,13 @@
 
 from .blur import plot_detection, plot_estimation_accuracy, plot_kernels, plot_spectra
 from .deconv import plot_deblurring_process
-from .pose import plot_error_distributions, plot_pipeline, plot_predicted_views
+from .pose import (
+    plot_error_distributions,
+    plot_pipeline,
+    plot_pose_training_curves,
+    plot_predicted_paths,
+    plot_predicted_views,
+)
 from .results import plot_architecture, plot_per_scene_metric, plot_ratios
 from .standin import (
     plot_blur_histogram,
@@ -29,6 +35,8 @@ __all__ = [
     "plot_kernels",
     "plot_per_scene_metric",
     "plot_pipeline",
+    "plot_pose_training_curves",
+    "plot_predicted_paths",
     "plot_predicted_views",
     "plot_ratios",
     "plot_scene_gallery",

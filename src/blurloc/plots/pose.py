@@ -1,5 +1,6 @@
-"""Figures of pose regression (notebook 05): one frame through the pipeline (Fig. 2), views
-rendered at predicted poses (Fig. 5) and the per-frame error distributions (Fig. 10)."""
+"""Figures of pose regression (notebooks 04-05): training curves and predicted camera paths,
+one frame through the pipeline (Fig. 2), views rendered at predicted poses (Fig. 5) and the
+per-frame error distributions (Fig. 10)."""
 
 from __future__ import annotations
 
@@ -175,4 +176,65 @@ def plot_error_distributions(
         axis.legend(fontsize=6, loc="upper left")
     if title:
         figure.suptitle(title, y=1.02)
+    return figure
+
+
+@styled
+def plot_pose_training_curves(histories: dict[str, dict[str, list[float]]]) -> plt.Figure:
+    """Pose training, one curve per head: the training loss (eq. 14) and the median validation
+    position error (eq. 12) per epoch.
+
+    Parameters
+    ----------
+    histories : dict
+        ``{head: history}``, each history with ``epoch``, ``train_loss`` and
+        ``val_position_m`` (metres) lists of the same length (``history.json`` of a run).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels: loss, then validation position error.
+
+    References
+    ----------
+    Eq. 12 and 14 of the paper.
+    """
+    figure, axes = plt.subplots(1, 2, figsize=(10, 3.2))
+    for head, history in histories.items():
+        axes[0].plot(history["epoch"], history["train_loss"], "o-", ms=3, label=head)
+        axes[1].plot(history["epoch"], history["val_position_m"], "o-", ms=3, label=head)
+    axes[0].set_xlabel("epoch")
+    axes[0].set_ylabel("eq. 14 loss (training)")
+    axes[1].set_xlabel("epoch")
+    axes[1].set_ylabel("median validation position error (m)")
+    axes[1].legend()
+    return figure
+
+
+@styled
+def plot_predicted_paths(
+    truth: np.ndarray, predicted: dict[str, np.ndarray], titles: dict[str, str]
+) -> plt.Figure:
+    """True and predicted camera paths in 3-D, one panel per prediction.
+
+    Parameters
+    ----------
+    truth : numpy.ndarray
+        True camera positions (N, 3), metres.
+    predicted : dict
+        ``{label: predicted positions (N, 3)}``, one panel each, in the dict's order.
+    titles : dict
+        ``{label: panel title}``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    figure = plt.figure(figsize=(5 * len(predicted), 4))
+    for column, (label, positions) in enumerate(predicted.items()):
+        axis = figure.add_subplot(1, len(predicted), column + 1, projection="3d")
+        axis.plot(*truth.T, "k-", lw=1.5, label="true")
+        axis.plot(*positions.T, "-", color="#d62728", lw=1, label="predicted")
+        axis.set_title(titles[label])
+        axis.legend(fontsize=7)
     return figure
