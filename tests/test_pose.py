@@ -65,7 +65,7 @@ def test_encoder_weights_load_from_a_local_file(tmp_path: Path) -> None:
         load_encoder_weights(ResNetEncoder("small"), tmp_path / "resnet18.pth")
 
 
-SMALL = PoseTrainConfig(epochs=3, resize=32, crop=28, batch=4, window=3,
+SMALL = PoseTrainConfig(epochs=3, windows_per_epoch=None, resize=32, crop=28, batch=4, window=3,
                         model=PoseConfig(hidden=16))  # fmt: skip
 
 

@@ -10,11 +10,11 @@ from scipy.spatial.transform import Rotation
 
 import blurloc.experiments.pose as pose_experiments
 from blurloc.data import load_split
+from blurloc.data.stats import read_blur_metadata
 from blurloc.experiments.pose import (
-    condition_errors_text,
+    blur_at_input,
     condition_roots,
-    errors_text,
-    long_sequence_rows,
+    learning_check,
     mean_pose_baseline,
     median_step,
     paper_deblur_drop,
@@ -23,6 +23,7 @@ from blurloc.experiments.pose import (
     pose_overview,
     run_pose_matrix,
     scene_mean,
+    seed_spread,
 )
 from blurloc.metrics import ACCURACY_THRESHOLDS
 from blurloc.paper import paper_values
@@ -65,11 +66,12 @@ def test_pose_matrix_rows(
     true_q = Rotation.from_matrix(truth[:, :3, :3]).as_quat(canonical=True, scalar_first=True)
     shift = np.array([0.3, 0.0, 0.4])  # every prediction 0.5 m off, orientation exact
 
-    def fake_train(root, scene, folder, config, progress):
-        trained.append((root, scene, Path(folder), config.image, config.model.head))
+    def fake_train(root, scene, folder, config, progress, cache):
+        trained.append((root, scene, Path(folder), config.image, config.model.head, config.seed,
+                        cache))  # fmt: skip
         return {"seconds": [12.34]}
 
-    def fake_predict(model, sequences, config):
+    def fake_predict(model, sequences, config, cache):
         return PosePair(truth[:, :3, 3], true_q, truth[:, :3, 3] + shift, true_q)
 
     monkeypatch.setattr(pose_experiments, "train_pose", fake_train)
@@ -77,12 +79,17 @@ def test_pose_matrix_rows(
     monkeypatch.setattr(pose_experiments, "predict_poses", fake_predict)
     roots = {"blurred": quick_root, "sharp": quick_root}
     runs = [("blurred", "lstm"), ("sharp", "none")]
-    summaries, frames = run_pose_matrix(roots, ["chess"], runs, PoseTrainConfig(), tmp_path)
-    assert [(t[2], t[3], t[4]) for t in trained] == [
-        (tmp_path / "blurred" / "lstm" / "chess", "color", "lstm"),
-        (tmp_path / "sharp" / "none" / "chess", "sharp", "none"),
+    summaries, frames = run_pose_matrix(roots, ["chess"], runs, PoseTrainConfig(), tmp_path,
+                                        seeds=(3, 7))  # fmt: skip
+    assert [(t[2], t[3], t[4], t[5]) for t in trained] == [
+        (tmp_path / "blurred" / "lstm" / "chess" / "seed-3", "color", "lstm", 3),
+        (tmp_path / "blurred" / "lstm" / "chess" / "seed-7", "color", "lstm", 7),
+        (tmp_path / "sharp" / "none" / "chess" / "seed-3", "sharp", "none", 3),
+        (tmp_path / "sharp" / "none" / "chess" / "seed-7", "sharp", "none", 7),
     ]
-    assert [(r["condition"], r["head"]) for r in summaries] == runs
+    assert len({id(t[6]) for t in trained}) == 1  # one frame cache for all the scene's runs
+    assert [(r["condition"], r["head"], r["seed"]) for r in summaries] == [
+        (c, h, seed) for c, h in runs for seed in (3, 7)]
     row = summaries[0]
     assert row["scene"] == "chess" and row["train_seconds"] == 12.3
     assert row["frames"] == count
@@ -93,14 +100,16 @@ def test_pose_matrix_rows(
     # 0.5 m off: outside the 0.25 m threshold, inside the 5 m one (0.5 m itself is a tie)
     for (metres, degrees), share in zip(ACCURACY_THRESHOLDS[::2], (0.0, 1.0), strict=True):
         assert row[f"within_{metres:g}m_{degrees:g}deg"] == share
-    assert len(frames) == 2 * count
+    assert len(frames) == 4 * count
     assert [f["index"] for f in frames[:count]] == list(range(count))
+    assert {f["seed"] for f in frames} == {3, 7}
     assert all(f["position_m"] == pytest.approx(0.5) for f in frames)
 
 
-def _summary(scene: str, condition: str, head: str, scale: float) -> dict:
+def _summary(scene: str, condition: str, head: str, scale: float, seed: int = 0) -> dict:
     """A made-up row of run_pose_matrix, every error proportional to ``scale``."""
-    return {"scene": scene, "condition": condition, "head": head, "train_seconds": 1.0,
+    return {"scene": scene, "seed": seed, "condition": condition, "head": head,
+            "train_seconds": 1.0,
             "position_m_median": 0.1 * scale, "orientation_deg_median": 2.0 * scale,
             "mae": 0.01 * scale, "mse": 0.001 * scale, "rmse": 0.03 * scale,
             "combined": 0.123456 * scale}  # fmt: skip
@@ -124,6 +133,21 @@ def test_per_scene_and_scene_mean_select_one_run() -> None:
     assert np.isnan(scene_mean(SUMMARIES, "sharp", "lstm", "mae"))
 
 
+def test_seeds_are_averaged_per_scene_and_their_spread_reported() -> None:
+    rows = [*SUMMARIES, _summary("chess", "blurred", "lstm", 3.0, seed=1),
+            _summary("fire", "blurred", "lstm", 5.0, seed=1)]  # fmt: skip
+    # chess: seeds 1.0 and 3.0 -> 2.0; fire: 3.0 and 5.0 -> 4.0 (times 0.1 m)
+    assert per_scene(rows, "blurred", "lstm", "position_m_median") == pytest.approx(
+        {"chess": 0.2, "fire": 0.4})
+    # the scene mean per seed: 0.2 (seed 0), 0.4 (seed 1): spread 0.1414
+    assert seed_spread(rows, "blurred", "lstm", "position_m_median") == pytest.approx(
+        np.std([0.2, 0.4], ddof=1))
+    assert seed_spread(SUMMARIES, "blurred", "lstm", "position_m_median") == 0.0
+    as_text = [{k: str(v) for k, v in r.items()} for r in rows]  # as read back from CSV
+    assert per_scene(as_text, "blurred", "lstm", "position_m_median") == pytest.approx(
+        {"chess": 0.2, "fire": 0.4})
+
+
 def test_pose_overview_averages_scenes_and_ends_with_the_baseline() -> None:
     rows = pose_overview(SUMMARIES, [("blurred", "lstm"), ("rnn", "lstm")], BASELINE)
     assert [(r["condition"], r["head"]) for r in rows] == [
@@ -131,10 +155,30 @@ def test_pose_overview_averages_scenes_and_ends_with_the_baseline() -> None:
         ("rnn", "lstm"),
         ("mean training pose", "-"),
     ]
-    assert rows[0] == {"condition": "blurred", "head": "lstm", "position_m": 0.2,
-                       "orientation_deg": 4.0, "combined": 0.2469}  # fmt: skip
-    assert rows[-1] == {"condition": "mean training pose", "head": "-", "position_m": 1.5,
-                        "orientation_deg": 15.0, "combined": 0.75}  # fmt: skip
+    assert rows[0] == {"condition": "blurred", "head": "lstm", "seeds": 1, "position_m": 0.2,
+                       "position_m_sd": 0.0, "orientation_deg": 4.0, "orientation_deg_sd": 0.0,
+                       "combined": 0.2469, "combined_sd": 0.0}  # fmt: skip
+    assert rows[-1] == {"condition": "mean training pose", "head": "-", "seeds": "",
+                        "position_m": 1.5, "position_m_sd": "", "orientation_deg": 15.0,
+                        "orientation_deg_sd": "", "combined": 0.75, "combined_sd": ""}  # fmt: skip
+
+
+def test_learning_check_divides_by_the_mean_pose() -> None:
+    rows = learning_check(SUMMARIES, BASELINE, "rnn", "lstm")
+    assert rows[1] == {"scene": "fire", "position_m": 0.15, "baseline_position_m": 2.0,
+                       "position_ratio": pytest.approx(0.075, abs=0.006), "orientation_deg": 3.0,
+                       "baseline_orientation_deg": 20.0, "orientation_ratio": 0.15}  # fmt: skip
+
+
+def test_blur_at_input_scales_the_recorded_blur(quick_root: Path) -> None:
+    config = PoseTrainConfig(resize=32, crop=28)
+    blur = blur_at_input(quick_root, config)
+    extents = [r["mean_px"] for r in read_blur_metadata(quick_root)]
+    assert blur["frames"] == len(extents)
+    assert blur["frame_median_px"] == pytest.approx(np.median(extents), abs=0.01)
+    scale = 32 / blur["frame_short_side_px"]
+    assert blur["input_median_px"] == pytest.approx(np.median(extents) * scale, abs=0.01)
+    assert blur["input_p90_px"] > blur["input_median_px"]
 
 
 def test_paper_table_rows_set_measured_beside_printed() -> None:
@@ -149,22 +193,6 @@ def test_paper_table_rows_set_measured_beside_printed() -> None:
                        "rmse": 0.015, "combined": 0.0617}  # fmt: skip
     assert rows[3]["combined"] == paper_values("table2", "combined", "proposed_deblurred")["fire"]
     assert list(rows[1]) == ["scene", "source", "mae", "mse", "rmse", "combined"]
-
-
-def test_long_sequence_rows_and_their_text() -> None:
-    rows = long_sequence_rows(SUMMARIES[:2], BASELINE, {"chess": 40, "fire": 60})
-    assert [r["train_frames"] for r in rows] == [40, 60, "", ""]
-    assert rows[1]["orientation_deg"] == 6.0 and rows[2]["train_seconds"] == ""
-    assert errors_text(rows, "fire", "blurred", "lstm") == "0.300 m / 6.00°"
-    assert errors_text(rows, "chess", "mean training pose", "-") == "1.000 m / 10.00°"
-    with pytest.raises(StopIteration):
-        errors_text(rows, "chess", "rnn", "lstm")
-
-
-def test_condition_errors_text_reads_both_heads() -> None:
-    assert condition_errors_text(SUMMARIES, "blurred") == (
-        "blurred: 0.200 m / 4.00° (LSTM), 1.000 m / 20.00° (single frame)"
-    )
 
 
 def test_median_step_and_the_papers_drop() -> None:

@@ -24,7 +24,7 @@ from blurloc.train.datasets import FrameCache
 from blurloc.train.loop import choose_device, validation_cut
 from blurloc.train.pose import train_pose
 
-TINY = PoseTrainConfig(epochs=2, resize=32, crop=28, batch=4, window=2,
+TINY = PoseTrainConfig(epochs=2, windows_per_epoch=None, resize=32, crop=28, batch=4, window=2,
                        model=PoseConfig(hidden=8))  # fmt: skip
 
 
@@ -199,3 +199,17 @@ def test_deblur_video_streams_its_frames(
     assert json.loads(capsys.readouterr().out)["frames"] == 40
     held = np.cumsum([1 if e == "read" else -1 for e in events])
     assert events.count("write") == 40 and held.max() <= 8  # never more than one chunk held
+
+
+@pytest.mark.parametrize(("head", "steps_per_epoch"), [("lstm", 2), ("none", 4)])
+def test_a_pose_epoch_is_a_fixed_number_of_windows(
+    quick_root: Path, tmp_path: Path, head: str, steps_per_epoch: int
+) -> None:
+    """8 windows of 2 frames per epoch in batches of 4: 2 optimiser steps (LSTM); the
+    single-frame head draws as many frames, 16, in 4 steps; whatever the scene's size."""
+    config = replace(TINY, windows_per_epoch=8, model=PoseConfig(head=head, hidden=8))
+    train_pose(quick_root, "chess", tmp_path / head, config, progress=False)
+    state = torch.load(tmp_path / head / "last.pt", weights_only=True)
+    assert state["schedule"]["last_epoch"] == config.epochs * steps_per_epoch
+    with pytest.raises(ValueError, match="--windows-per-epoch"):
+        replace(TINY, windows_per_epoch=0)

@@ -234,6 +234,8 @@ def _train_pose(args: argparse.Namespace) -> int:
                              model=PoseConfig(head=args.head, encoder=args.encoder))  # fmt: skip
     overrides = {"epochs": args.epochs, "resize": args.resize, "crop": args.crop,
                  "lr": args.lr, "batch": args.batch, "window": args.window}  # fmt: skip
+    if args.windows_per_epoch is not None:  # 0: one pass over every window per epoch
+        overrides["windows_per_epoch"] = args.windows_per_epoch or None
     config = replace(config, **{k: v for k, v in overrides.items() if v is not None},
                      learned_weighting=args.learned_weighting)  # fmt: skip
     history = train_pose(root, args.scene, args.out, config, progress=not args.quiet,
@@ -369,6 +371,8 @@ def build_parser() -> argparse.ArgumentParser:
     pose.add_argument("--head", choices=("lstm", "bilstm", "gru", "none"), default="lstm")
     pose.add_argument("--encoder", choices=("small", "resnet18", "resnet34"), default="small")
     pose.add_argument("--epochs", type=int)
+    pose.add_argument("--windows-per-epoch", type=int,
+                      help="windows drawn per epoch (0: every window once; default 512)")
     pose.add_argument("--resize", type=int, help="short side in px (paper: 256)")
     pose.add_argument("--crop", type=int, help="square crop in px (paper: 224)")
     pose.add_argument("--lr", type=float)

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .experiments.comparisons import per_scene_mean
 from .paper import reported_numbers
 
 #: Scene order of the paper's tables.
@@ -113,7 +114,7 @@ def measured_numbers(results_dir: str | os.PathLike) -> dict[tuple[str, str, str
     ):
         rows = [r for r in summary if r["condition"] == condition]
         for metric in metrics:
-            values = {r["scene"]: float(r[_POSE_METRICS[metric]]) for r in rows}
+            values = per_scene_mean(rows, _POSE_METRICS[metric])  # mean over seeds
             for scene, value in values.items():
                 measured[(item, method, scene, metric)] = value
             if item == "table3" and values:

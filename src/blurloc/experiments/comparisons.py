@@ -123,3 +123,54 @@ def comparison_table(
                 "verdict": verdict(interval, claimed_sign),
             })  # fmt: skip
     return table
+
+
+def per_scene_mean(rows: list[dict], metric: str, where: dict | None = None) -> dict[str, float]:
+    """The mean over seeds of ``metric``, per scene.
+
+    Parameters
+    ----------
+    rows : list of dict
+        One row per run with ``scene`` and ``metric`` (numbers, or numeric strings as read from
+        CSV).
+    metric : str
+        Column averaged (e.g. ``position_m_median``: each run's median error).
+    where : dict, optional
+        Only rows whose columns equal these values (e.g. ``{"condition": "rnn", "head":
+        "lstm"}``); values are compared as text, so CSV rows match too.
+
+    Returns
+    -------
+    dict
+        ``{scene: mean over the scene's runs}``, scenes in the rows' order.
+    """
+    grouped = _by_scene(rows, metric, where)
+    return {scene: float(np.mean(values)) for scene, values in grouped.items()}
+
+
+def per_scene_spread(rows: list[dict], metric: str, where: dict | None = None) -> dict[str, float]:
+    """The standard deviation over seeds of ``metric``, per scene (the seed spread).
+
+    Parameters
+    ----------
+    rows, metric, where
+        As in :func:`per_scene_mean`.
+
+    Returns
+    -------
+    dict
+        ``{scene: sample standard deviation (ddof 1) over the scene's runs}``; 0 for a scene with
+        one run.
+    """
+    return {scene: float(np.std(values, ddof=1)) if len(values) > 1 else 0.0
+            for scene, values in _by_scene(rows, metric, where).items()}  # fmt: skip
+
+
+def _by_scene(rows: list[dict], metric: str, where: dict | None) -> dict[str, list[float]]:
+    """``metric`` of the rows matching ``where`` (compared as text), grouped by scene."""
+    where = {key: str(value) for key, value in (where or {}).items()}
+    grouped: dict[str, list[float]] = {}
+    for row in rows:
+        if all(str(row.get(key)) == value for key, value in where.items()):
+            grouped.setdefault(row["scene"], []).append(float(row[metric]))
+    return grouped

@@ -14,13 +14,16 @@ from scipy.spatial.transform import Rotation
 from tqdm.auto import tqdm
 
 from ..data.scenes import REAL_MEAN_POSE_BASELINE
-from ..data.sevenscenes import list_scenes, load_split
+from ..data.sevenscenes import list_scenes, load_split, read_image
+from ..data.stats import read_blur_metadata
 from ..inference import load_pose_model, predict_poses
 from ..metrics import combined_errors, orientation_errors_deg, pose_summary, position_errors
 from ..paper import paper_values
 from ..poses import PosePair, to_quaternions
 from ..train.config import PoseTrainConfig
+from ..train.datasets import FrameCache
 from ..train.pose import train_pose
+from .comparisons import per_scene_mean
 
 CONDITIONS = ("blurred", "wiener", "rnn", "sharp")
 
@@ -53,9 +56,15 @@ def run_pose_matrix(
     runs: list[tuple[str, str]],
     config: PoseTrainConfig,
     out_dir: str | os.PathLike,
+    seeds: tuple[int, ...] = (0,),
     progress: bool = False,
 ) -> tuple[list[dict], list[dict]]:
-    """Train and test every (condition, head) of ``runs`` on every scene.
+    """Train and test every (condition, head) of ``runs`` on every scene, once per seed.
+
+    The same seeds serve every condition and head, so that runs can be paired by scene and
+    seed (:func:`blurloc.experiments.comparisons.comparison_table`). Each scene's frames are
+    decoded once for all its runs (one :class:`~blurloc.train.datasets.FrameCache` per scene).
+    Finished trainings are not re-run (:func:`~blurloc.train.pose.train_pose` resumes).
 
     Parameters
     ----------
@@ -66,19 +75,21 @@ def run_pose_matrix(
     runs : list of (str, str)
         (condition, head) pairs; ``sharp`` trains and tests on the sharp renders.
     config : PoseTrainConfig
-        Training settings shared by every run (the head is replaced per run).
+        Training settings shared by every run (the head and the seed are replaced per run).
     out_dir : str or os.PathLike
-        Models go to ``out_dir/<condition>/<head>/<scene>``.
+        Models go to ``out_dir/<condition>/<head>/<scene>/seed-<seed>``.
+    seeds : tuple of int
+        Training seeds.
     progress : bool
         Show a progress bar over the runs.
 
     Returns
     -------
     summaries : list of dict
-        One row per run and scene: scene, condition, head, train_seconds and
+        One row per run, scene and seed: scene, seed, condition, head, train_seconds and
         :func:`~blurloc.metrics.pose_summary` flattened (``position_m_median``, ...).
     frames : list of dict
-        One row per test frame: scene, condition, head, index, position_m (eq. 12),
+        One row per test frame: scene, seed, condition, head, index, position_m (eq. 12),
         orientation_deg (eq. 13) and combined (eq. 14).
 
     References
@@ -86,17 +97,22 @@ def run_pose_matrix(
     Eq. 12-17 of the paper; Tables I-II (blurred and deblurred inputs).
     """
     summaries, frames = [], []
-    jobs = [(condition, head, scene) for condition, head in runs for scene in scenes]
-    for condition, head, scene in tqdm(jobs, disable=not progress, desc="pose runs"):
-        run_config = replace(config, image="sharp" if condition == "sharp" else "color",
+    jobs = [(scene, condition, head, seed) for scene in scenes for condition, head in runs
+            for seed in seeds]  # fmt: skip
+    caches: dict[str, FrameCache] = {}
+    for scene, condition, head, seed in tqdm(jobs, disable=not progress, desc="pose runs"):
+        if scene not in caches:  # a new scene: the previous one's frames are let go
+            caches = {scene: FrameCache()}
+        run_config = replace(config, seed=seed, image="sharp" if condition == "sharp" else "color",
                              model=replace(config.model, head=head))  # fmt: skip
-        folder = Path(out_dir) / condition / head / scene
-        history = train_pose(roots[condition], scene, folder, run_config, progress=False)
+        folder = model_folder(out_dir, condition, head, scene, seed)
+        history = train_pose(roots[condition], scene, folder, run_config, progress=False,
+                             cache=caches[scene])  # fmt: skip
         model, _ = load_pose_model(folder / "best.pt")
         test = load_split(roots[condition], scene, "test")
-        pair = predict_poses(model, test, run_config)
+        pair = predict_poses(model, test, run_config, cache=caches[scene])
         summary = pose_summary(pair, config.beta)
-        row = {"scene": scene, "condition": condition, "head": head,
+        row = {"scene": scene, "seed": seed, "condition": condition, "head": head,
                "train_seconds": round(history["seconds"][-1], 1)}  # fmt: skip
         for key, value in summary.items():
             if isinstance(value, dict):
@@ -107,11 +123,33 @@ def run_pose_matrix(
         position, orientation = position_errors(pair), orientation_errors_deg(pair)
         combined = combined_errors(pair, config.beta)
         for index in range(len(position)):
-            frames.append({"scene": scene, "condition": condition, "head": head,
+            frames.append({"scene": scene, "seed": seed, "condition": condition, "head": head,
                            "index": index, "position_m": float(position[index]),
                            "orientation_deg": float(orientation[index]),
                            "combined": float(combined[index])})  # fmt: skip
     return summaries, frames
+
+
+def model_folder(
+    out_dir: str | os.PathLike, condition: str, head: str, scene: str, seed: int
+) -> Path:
+    """Where :func:`run_pose_matrix` keeps one run's model.
+
+    Parameters
+    ----------
+    out_dir : str or os.PathLike
+        The matrix's folder.
+    condition, head, scene : str
+        The run.
+    seed : int
+        Its training seed.
+
+    Returns
+    -------
+    pathlib.Path
+        ``out_dir/<condition>/<head>/<scene>/seed-<seed>`` (``best.pt``, ``history.json``).
+    """
+    return Path(out_dir) / condition / head / scene / f"seed-{seed}"
 
 
 def mean_pose_baseline(root: str | os.PathLike, scene: str) -> dict:
@@ -202,12 +240,14 @@ def predict_test_frames(model_path: str | os.PathLike, root: str | os.PathLike, 
 
 
 def per_scene(summaries: list[dict], condition: str, head: str, key: str) -> dict[str, float]:
-    """One column of the matrix's summaries, per scene, for one (condition, head) run.
+    """One column of the matrix's summaries, per scene, for one (condition, head) run: the
+    mean over seeds (:func:`~blurloc.experiments.comparisons.per_scene_mean`).
 
     Parameters
     ----------
     summaries : list of dict
-        Rows of :func:`run_pose_matrix` (``scene``, ``condition``, ``head`` and the metrics).
+        Rows of :func:`run_pose_matrix` (``scene``, ``seed``, ``condition``, ``head`` and the
+        metrics), or the same rows read back from ``pose_summary.csv``.
     condition, head : str
         The run, e.g. ``("blurred", "lstm")``.
     key : str
@@ -217,10 +257,9 @@ def per_scene(summaries: list[dict], condition: str, head: str, key: str) -> dic
     Returns
     -------
     dict
-        ``{scene: value}`` in the rows' order.
+        ``{scene: mean over seeds}`` in the rows' order.
     """
-    return {row["scene"]: row[key] for row in summaries
-            if row["condition"] == condition and row["head"] == head}  # fmt: skip
+    return per_scene_mean(summaries, key, {"condition": condition, "head": head})
 
 
 def scene_mean(summaries: list[dict], condition: str, head: str, key: str) -> float:
@@ -244,11 +283,34 @@ def scene_mean(summaries: list[dict], condition: str, head: str, key: str) -> fl
     return float(np.mean(values)) if values else float("nan")
 
 
+def seed_spread(summaries: list[dict], condition: str, head: str, key: str) -> float:
+    """How much the scene-mean of one column moves from seed to seed.
+
+    Parameters
+    ----------
+    summaries : list of dict
+        Rows of :func:`run_pose_matrix`.
+    condition, head, key : str
+        As in :func:`scene_mean`.
+
+    Returns
+    -------
+    float
+        Sample standard deviation (ddof 1) over seeds of the mean over scenes; 0 with one seed.
+    """
+    by_seed: dict[str, list[float]] = {}
+    for row in summaries:
+        if row["condition"] == condition and row["head"] == head:
+            by_seed.setdefault(str(row["seed"]), []).append(float(row[key]))
+    means = [float(np.mean(values)) for values in by_seed.values()]
+    return float(np.std(means, ddof=1)) if len(means) > 1 else 0.0
+
+
 def pose_overview(
     summaries: list[dict], runs: list[tuple[str, str]], baseline: dict[str, dict]
 ) -> list[dict]:
-    """The overview table: per run, the median errors averaged over scenes, then the mean
-    training pose as the last row.
+    """The overview table: per run, the median errors averaged over scenes and seeds with their
+    seed spread, then the mean training pose as the last row.
 
     Parameters
     ----------
@@ -262,28 +324,103 @@ def pose_overview(
     Returns
     -------
     list of dict
-        ``condition``, ``head``, ``position_m`` (median eq. 12, metres, 3 decimals),
+        ``condition``, ``head``, ``seeds``, ``position_m`` (median eq. 12, metres, 3 decimals),
         ``orientation_deg`` (median eq. 13, degrees, 2 decimals) and ``combined`` (mean eq. 14,
-        4 decimals), each averaged over the scenes.
+        4 decimals), each the mean over scenes of the mean over seeds, and each with its seed
+        spread (``*_sd``: standard deviation over seeds of the mean over scenes).
 
     References
     ----------
     Eq. 12-14 of the paper.
     """
-    rows = [{"condition": condition, "head": head,
-             "position_m": round(scene_mean(summaries, condition, head, "position_m_median"), 3),
-             "orientation_deg": round(scene_mean(summaries, condition, head,
-                                                 "orientation_deg_median"), 2),
-             "combined": round(scene_mean(summaries, condition, head, "combined"), 4)}
-            for condition, head in runs]  # fmt: skip
-    rows.append({"condition": "mean training pose", "head": "-",
-                 "position_m": round(float(np.mean([b["position_m"]["median"]
-                                                    for b in baseline.values()])), 3),
-                 "orientation_deg": round(float(np.mean([b["orientation_deg"]["median"]
-                                                         for b in baseline.values()])), 2),
-                 "combined": round(float(np.mean([b["combined"]
-                                                  for b in baseline.values()])), 4)})  # fmt: skip
+    columns = {"position_m": ("position_m_median", 3),
+               "orientation_deg": ("orientation_deg_median", 2), "combined": ("combined", 4)}
+    rows = []
+    for condition, head in runs:
+        seeds = {r["seed"] for r in summaries if r["condition"] == condition and r["head"] == head}
+        row = {"condition": condition, "head": head, "seeds": len(seeds)}
+        for name, (key, digits) in columns.items():
+            row[name] = round(scene_mean(summaries, condition, head, key), digits)
+            row[f"{name}_sd"] = round(seed_spread(summaries, condition, head, key), digits)
+        rows.append(row)
+    last = {"condition": "mean training pose", "head": "-", "seeds": ""}
+    for name, (_, digits) in columns.items():
+        values = [b[name]["median"] if isinstance(b[name], dict) else b[name]
+                  for b in baseline.values()]
+        last |= {name: round(float(np.mean(values)), digits), f"{name}_sd": ""}
+    rows.append(last)
     return rows
+
+
+def learning_check(
+    summaries: list[dict], baseline: dict[str, dict], condition: str = "sharp", head: str = "lstm"
+) -> list[dict]:
+    """Per scene: has the regressor learned? Its errors against the mean training pose's.
+
+    Parameters
+    ----------
+    summaries : list of dict
+        Rows of :func:`run_pose_matrix`.
+    baseline : dict
+        ``{scene: mean_pose_baseline(...)}``.
+    condition, head : str
+        The run checked (default: LSTM on sharp frames, the best case).
+
+    Returns
+    -------
+    list of dict
+        Per scene: ``position_m`` and ``orientation_deg`` (median errors, mean over seeds),
+        ``baseline_position_m``/``baseline_orientation_deg`` (the mean training pose's), and
+        ``position_ratio``/``orientation_ratio`` (regressor over baseline; below 1: learned).
+    """
+    position = per_scene(summaries, condition, head, "position_m_median")
+    orientation = per_scene(summaries, condition, head, "orientation_deg_median")
+    rows = []
+    for scene, value in position.items():
+        base_position = baseline[scene]["position_m"]["median"]
+        base_orientation = baseline[scene]["orientation_deg"]["median"]
+        rows.append({"scene": scene, "position_m": round(value, 3),
+                     "baseline_position_m": round(base_position, 3),
+                     "position_ratio": round(value / base_position, 2),
+                     "orientation_deg": round(orientation[scene], 2),
+                     "baseline_orientation_deg": round(base_orientation, 2),
+                     "orientation_ratio": round(orientation[scene] / base_orientation, 2)})
+    return rows
+
+
+def blur_at_input(root: str | os.PathLike, config: PoseTrainConfig) -> dict:
+    """How long the stand-in's recorded blur is once frames are resized for the pose network.
+
+    The regressor resizes every frame so its short side is ``config.resize`` px: a blur of L px
+    in a frame of short side S becomes L * resize / S px at the network's input.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A stand-in root (with ``blur.csv`` per sequence).
+    config : PoseTrainConfig
+        The regressor's settings (``resize``, ``crop``).
+
+    Returns
+    -------
+    dict
+        ``frames``, ``frame_short_side_px``, ``input_short_side_px``, and the median and
+        90th percentile of the recorded mean blur extent, in frame pixels
+        (``frame_median_px``, ``frame_p90_px``) and at the network's input (``input_median_px``,
+        ``input_p90_px``).
+    """
+    records = read_blur_metadata(root)
+    extents = np.array([r["mean_px"] for r in records])
+    scene = records[0]["scene"]
+    first = load_split(root, scene, "train")[0]
+    short_side = min(read_image(first.path(first.frame_ids[0])).shape[:2])
+    scale = config.resize / short_side
+    median, p90 = np.percentile(extents, [50, 90])
+    return {"frames": int(extents.size), "frame_short_side_px": int(short_side),
+            "input_short_side_px": config.resize, "frame_median_px": round(float(median), 2),
+            "frame_p90_px": round(float(p90), 2),
+            "input_median_px": round(float(median * scale), 2),
+            "input_p90_px": round(float(p90 * scale), 2)}  # fmt: skip
 
 
 def paper_table_rows(
@@ -325,91 +462,6 @@ def paper_table_rows(
         rows.append({"scene": scene, "source": "paper"}
                     | {metric: printed[metric].get(scene) for metric in metrics})  # fmt: skip
     return rows
-
-
-def long_sequence_rows(
-    summaries: list[dict], baseline: dict[str, dict], train_frames: dict[str, int]
-) -> list[dict]:
-    """The table of the runs on longer sequences: one row per run and scene, then the mean
-    training pose per scene.
-
-    Parameters
-    ----------
-    summaries : list of dict
-        Rows of :func:`run_pose_matrix`.
-    baseline : dict
-        ``{scene: mean_pose_baseline(...)}``.
-    train_frames : dict
-        ``{scene: number of training frames}``.
-
-    Returns
-    -------
-    list of dict
-        ``scene``, ``condition``, ``head``, ``train_frames``, ``train_seconds``,
-        ``position_m`` (median eq. 12, 3 decimals), ``orientation_deg`` (median eq. 13,
-        2 decimals), ``combined`` (mean eq. 14, 4 decimals); the baseline rows have empty
-        ``train_frames`` and ``train_seconds``.
-    """
-    rows = [{"scene": r["scene"], "condition": r["condition"], "head": r["head"],
-             "train_frames": train_frames[r["scene"]], "train_seconds": r["train_seconds"],
-             "position_m": round(r["position_m_median"], 3),
-             "orientation_deg": round(r["orientation_deg_median"], 2),
-             "combined": round(r["combined"], 4)} for r in summaries]  # fmt: skip
-    rows += [{"scene": s, "condition": "mean training pose", "head": "-", "train_frames": "",
-              "train_seconds": "", "position_m": round(b["position_m"]["median"], 3),
-              "orientation_deg": round(b["orientation_deg"]["median"], 2),
-              "combined": round(b["combined"], 4)} for s, b in baseline.items()]  # fmt: skip
-    return rows
-
-
-def errors_text(rows: list[dict], scene: str, condition: str, head: str) -> str:
-    """One row's median position / orientation error as text, e.g. ``0.412 m / 9.87°``.
-
-    Parameters
-    ----------
-    rows : list of dict
-        Rows with ``scene``, ``condition``, ``head``, ``position_m`` and ``orientation_deg``
-        (:func:`long_sequence_rows`).
-    scene, condition, head : str
-        The row.
-
-    Returns
-    -------
-    str
-        Metres with 3 decimals, degrees with 2.
-
-    Raises
-    ------
-    StopIteration
-        If no row matches.
-    """
-    row = next(
-        r for r in rows if r["scene"] == scene and r["condition"] == condition and r["head"] == head
-    )
-    return f"{row['position_m']:.3f} m / {row['orientation_deg']:.2f}°"
-
-
-def condition_errors_text(summaries: list[dict], condition: str) -> str:
-    """One condition's errors as text: the mean over scenes of the median position and
-    orientation errors, LSTM then single frame, e.g. ``rnn: 0.412 m / 9.87° (LSTM), ...``.
-
-    Parameters
-    ----------
-    summaries : list of dict
-        Rows of :func:`run_pose_matrix` with the ``lstm`` and ``none`` heads of ``condition``.
-    condition : str
-        E.g. ``blurred``.
-
-    Returns
-    -------
-    str
-        Metres with 3 decimals (eq. 12), degrees with 2 (eq. 13).
-    """
-    return "{}: {:.3f} m / {:.2f}° (LSTM), {:.3f} m / {:.2f}° (single frame)".format(
-        condition,
-        *(scene_mean(summaries, condition, head, key) for head in ("lstm", "none")
-          for key in ("position_m_median", "orientation_deg_median")),
-    )  # fmt: skip
 
 
 def median_step(positions: np.ndarray) -> float:

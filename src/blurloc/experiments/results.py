@@ -18,10 +18,12 @@ from ..deconv import blind_kernel
 from ..geometry import intrinsics
 from ..images import to_uint8
 from ..trajectory import quaternions_to_poses
-from .pose import mean_pose_baseline, predict_test_frames
+from .pose import mean_pose_baseline, model_folder, per_scene, predict_test_frames
 
 
-def model_path(results_dir: str | os.PathLike, condition: str, head: str, scene: str) -> Path:
+def model_path(
+    results_dir: str | os.PathLike, condition: str, head: str, scene: str, seed: int = 0
+) -> Path:
     """The saved best model of one pose training of notebook 04.
 
     Parameters
@@ -34,17 +36,25 @@ def model_path(results_dir: str | os.PathLike, condition: str, head: str, scene:
         Temporal head: ``lstm`` or ``none`` (single frame).
     scene : str
         Scene name.
+    seed : int
+        The training's seed.
 
     Returns
     -------
     pathlib.Path
-        ``results_dir/pose_models/condition/head/scene/best.pt``.
+        ``best.pt`` in :func:`blurloc.experiments.pose.model_folder` under
+        ``results_dir/pose_models``.
     """
-    return Path(results_dir) / "pose_models" / condition / head / scene / "best.pt"
+    return model_folder(Path(results_dir) / "pose_models", condition, head, scene, seed) / "best.pt"
 
 
 def scene_predictions(
-    results_dir: str | os.PathLike, roots: dict[str, Path], condition: str, head: str, scene: str
+    results_dir: str | os.PathLike,
+    roots: dict[str, Path],
+    condition: str,
+    head: str,
+    scene: str,
+    seed: int = 0,
 ) -> dict:
     """Every test frame of ``scene`` as predicted by one saved pose model of notebook 04.
 
@@ -56,6 +66,8 @@ def scene_predictions(
         Where each condition's frames live (:func:`blurloc.experiments.pose.condition_roots`).
     condition, head, scene : str
         Which training: frames, temporal head and scene.
+    seed : int
+        The training's seed.
 
     Returns
     -------
@@ -63,20 +75,21 @@ def scene_predictions(
         As :func:`blurloc.experiments.pose.predict_test_frames`: frames, predicted and true
         poses, per-frame position (m, eq. 12) and orientation (degrees, eq. 13) errors.
     """
-    path = model_path(results_dir, condition, head, scene)
+    path = model_path(results_dir, condition, head, scene, seed)
     return predict_test_frames(path, roots[condition], scene)
 
 
 def measured_pose(
     summary: list[dict], condition: str, head: str, scenes: list[str]
 ) -> dict[str, tuple[float, float]]:
-    """One measured row of Table III: median errors per scene and their mean over ``scenes``.
+    """One measured row of Table III: median errors per scene (mean over seeds) and their mean
+    over ``scenes``.
 
     Parameters
     ----------
     summary : list of dict
         Rows of ``pose_summary.csv`` (notebook 04): ``condition``, ``head``, ``scene``,
-        ``position_m_median`` (m) and ``orientation_deg_median`` (degrees).
+        ``seed``, ``position_m_median`` (m) and ``orientation_deg_median`` (degrees).
     condition, head : str
         Which training.
     scenes : list of str
@@ -91,8 +104,9 @@ def measured_pose(
     ----------
     Table III of the paper (median errors per scene, eq. 12-13).
     """
-    rows = {r["scene"]: (float(r["position_m_median"]), float(r["orientation_deg_median"]))
-            for r in summary if r["condition"] == condition and r["head"] == head}  # fmt: skip
+    position = per_scene(summary, condition, head, "position_m_median")
+    orientation = per_scene(summary, condition, head, "orientation_deg_median")
+    rows = {scene: (value, orientation[scene]) for scene, value in position.items()}
     rows["average"] = tuple(np.mean([rows[s] for s in scenes], axis=0))
     return rows
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import shutil
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
@@ -40,6 +41,7 @@ def evaluate_video_deblurring(
     methods: dict[str, Callable[[np.ndarray], np.ndarray]],
     split: str = "test",
     progress: bool = False,
+    frames_per_sequence: int | None = None,
 ) -> list[dict]:
     """PSNR (eq. 5) and SSIM (eq. 7) of every frame restored by each method.
 
@@ -53,6 +55,8 @@ def evaluate_video_deblurring(
         ``train`` or ``test``.
     progress : bool
         Show a progress bar.
+    frames_per_sequence : int, optional
+        Restore and score only the first that many frames of every sequence (all when None).
 
     Returns
     -------
@@ -61,7 +65,9 @@ def evaluate_video_deblurring(
         ``psnr_db`` and ``ssim`` (data range 1, against the sharp frame).
     """
     rows = []
-    sequences = [s for scene in list_scenes(root) for s in load_split(root, scene, split)]
+    part = slice(frames_per_sequence)
+    sequences = [replace(s, frame_ids=s.frame_ids[part]) for scene in list_scenes(root)
+                 for s in load_split(root, scene, split)]  # fmt: skip
     for sequence in tqdm(sequences, disable=not progress, desc=f"evaluate {split}"):
         blurred = np.stack([read_image(sequence.path(f, "color")) for f in sequence.frame_ids])
         sharp = [as_float_image(read_image(sequence.path(f, "sharp"))) for f in sequence.frame_ids]
@@ -122,5 +128,15 @@ def write_deblurred_root(
             for kind in ("pose", "sharp"):
                 source = sequence.path(frame, kind)
                 if source.is_file():
-                    shutil.copyfile(source, folder / source.name)
+                    _link_or_copy(source, folder / source.name)
     return out_root
+
+
+def _link_or_copy(source: Path, target: Path) -> None:
+    """Carry ``source`` over to ``target``: a hard link (no copy of the bytes) where the file
+    system allows it, else a copy."""
+    target.unlink(missing_ok=True)
+    try:
+        os.link(source, target)
+    except OSError:
+        shutil.copyfile(source, target)

@@ -10,7 +10,12 @@ from .pose import (
     plot_predicted_paths,
     plot_predicted_views,
 )
-from .results import plot_architecture, plot_per_scene_metric, plot_ratios
+from .results import (
+    plot_architecture,
+    plot_paired_differences,
+    plot_per_scene_metric,
+    plot_ratios,
+)
 from .standin import (
     plot_blur_histogram,
     plot_blur_pairs,
@@ -33,6 +38,7 @@ __all__ = [
     "plot_estimation_accuracy",
     "plot_exposure",
     "plot_kernels",
+    "plot_paired_differences",
     "plot_per_scene_metric",
     "plot_pipeline",
     "plot_pose_training_curves",

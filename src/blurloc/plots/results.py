@@ -63,9 +63,13 @@ def plot_per_scene_metric(
     paper: dict[str, float],
     ylabel: str,
     title: str,
+    spread: dict[str, dict[str, float]] | None = None,
+    reference: dict[str, float] | None = None,
+    reference_label: str = "mean training pose",
 ) -> plt.Figure:
-    """Grouped bars per scene: each measured method and the paper's printed values (hatched
-    grey, labelled "paper (printed)").
+    """Grouped bars per scene: each measured method, with its seed spread as error bars, and
+    the paper's printed values (hatched grey, labelled "paper (printed)"); the y-axis starts at
+    zero.
 
     Parameters
     ----------
@@ -75,28 +79,92 @@ def plot_per_scene_metric(
         ``{scene: printed value}``; its scenes set the order.
     ylabel, title : str
         Axis label (with the unit) and title.
+    spread : dict, optional
+        ``{method: {scene: standard deviation over seeds}}``, drawn as error bars (± 1 sd).
+    reference : dict, optional
+        ``{scene: value}`` drawn as a black line across each scene's group (e.g. the error of
+        predicting the mean training pose).
+    reference_label : str
+        Legend label of ``reference``.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
     scenes = list(paper)
+    spread = spread or {}
     series = [(name, values, METHOD_COLOURS.get(name, None), None)
               for name, values in measured.items()]  # fmt: skip
     series.append(("paper (printed)", paper, PAPER_COLOUR, "//"))
     width = 0.8 / len(series)
-    figure, axis = plt.subplots(figsize=(10, 3.4))
+    figure, axis = plt.subplots(figsize=(10, 3.6))
     for index, (name, values, colour, hatch) in enumerate(series):
         x = np.arange(len(scenes)) + (index - (len(series) - 1) / 2) * width
         heights = [values.get(scene, np.nan) for scene in scenes]
+        errors = [spread.get(name, {}).get(scene, np.nan) for scene in scenes]
         axis.bar(x, heights, width, label=name, color=colour, hatch=hatch,
+                 yerr=errors if name in spread else None, capsize=1.5,
+                 error_kw={"elinewidth": 0.8},
                  edgecolor="white" if hatch is None else "#444444", linewidth=0.5)  # fmt: skip
+    if reference:
+        for index, scene in enumerate(scenes):
+            if scene in reference:
+                label = reference_label if index == 0 else None
+                axis.hlines(reference[scene], index - 0.45, index + 0.45, colors="black",
+                            linewidth=1.2, label=label)  # fmt: skip
     axis.set_xticks(np.arange(len(scenes)), scenes)
     axis.set_ylabel(ylabel)
     axis.set_title(title)
-    lows = [v for _, values, _, _ in series for v in values.values() if np.isfinite(v)]
-    axis.set_ylim(min(lows) * 0.9, max(lows) * 1.03)
-    axis.legend(ncol=3, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
+    axis.set_ylim(bottom=0)
+    axis.legend(ncol=4, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
+    return figure
+
+
+@styled
+def plot_paired_differences(rows: list[dict], title: str) -> plt.Figure:
+    """Mean paired differences with their confidence intervals, one panel per metric, relative
+    to the baseline's mean (a forest plot).
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of :func:`blurloc.experiments.comparisons.comparison_table`: ``comparison``,
+        ``metric``, ``baseline_mean``, ``mean_difference``, ``ci_low``, ``ci_high``,
+        ``interval`` and ``verdict``.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        x: difference in % of the baseline's mean (negative: the other configuration has the
+        lower error); a line at zero.
+    """
+    metrics = list(dict.fromkeys(r["metric"] for r in rows))
+    comparisons = list(dict.fromkeys(r["comparison"] for r in rows))
+    figure, axes = plt.subplots(1, len(metrics), figsize=(3.4 * len(metrics), 0.5
+                                                          + 0.45 * len(comparisons)),
+                                sharey=True, squeeze=False)  # fmt: skip
+    for axis, metric in zip(axes[0], metrics, strict=True):
+        for y, comparison in enumerate(comparisons):
+            row = next((r for r in rows if r["metric"] == metric
+                        and r["comparison"] == comparison), None)  # fmt: skip
+            if row is None:
+                continue
+            scale = 100.0 / row["baseline_mean"]
+            low, high = row["ci_low"] * scale, row["ci_high"] * scale
+            colour = "#2a7" if high < 0 else "#c33" if low > 0 else "#555"
+            axis.errorbar(row["mean_difference"] * scale, y,
+                          xerr=[[row["mean_difference"] * scale - low],
+                                [high - row["mean_difference"] * scale]],
+                          fmt="o", color=colour, capsize=3)  # fmt: skip
+        axis.axvline(0, color="black", linewidth=0.8)
+        axis.set_title(metric, fontsize=9)
+        axis.set_xlabel("difference (% of baseline)")
+    axes[0][0].set_yticks(range(len(comparisons)), comparisons)
+    axes[0][0].invert_yaxis()
+    interval = rows[0]["interval"] if rows else ""
+    figure.suptitle(f"{title} (mean paired difference, {interval} interval)", fontsize=10)
     return figure
 
 

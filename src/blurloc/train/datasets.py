@@ -156,6 +156,7 @@ class PoseSequenceDataset(Dataset):
         self.random_crop = random_crop
         self.kinds = tuple(kinds)
         self._poses = [seq.poses() for seq in self.sequences]
+        self._quaternions = [rotation_to_quaternion(poses[:, :3, :3]) for poses in self._poses]
         self.cache = cache if cache is not None else FrameCache()
         self.index: list[tuple[int, int]] = []
         for s, seq in enumerate(self.sequences):
@@ -201,7 +202,8 @@ class PoseSequenceDataset(Dataset):
         poses = self._poses[s][start : start + self.window]
         out["pose"] = torch.from_numpy(poses).float()
         out["position"] = torch.from_numpy(poses[:, :3, 3]).float()
-        out["quaternion"] = torch.from_numpy(rotation_to_quaternion(poses[:, :3, :3])).float()
+        quaternions = self._quaternions[s][start : start + self.window]
+        out["quaternion"] = torch.from_numpy(quaternions).float()
         out["sequence"] = torch.tensor(s)
         out["frame"] = torch.tensor(start)
         return out

@@ -61,6 +61,7 @@ def train_pose(
     progress: bool = True,
     restart: bool = False,
     stop_after: int | None = None,
+    cache: FrameCache | None = None,
 ) -> dict:
     """Train a :class:`~blurloc.models.pose.PoseRegressor` on a scene's training split.
 
@@ -87,6 +88,8 @@ def train_pose(
         Start afresh even if ``out_dir`` holds a run with other settings (replacing it).
     stop_after : int, optional
         End this call after that many epochs (a later call resumes).
+    cache : FrameCache, optional
+        Decoded frames shared with other runs on the same frames (a new one when None).
 
     Returns
     -------
@@ -110,25 +113,31 @@ def train_pose(
     if not sequences:
         raise ValueError(f"{Path(root) / scene}: no training sequences")
     with fixed_threads(config.threads):
-        return _train(sequences, scene, out_dir, config, device, resumed, progress, stop_after)
+        return _train(sequences, scene, out_dir, config, device, resumed, progress, stop_after,
+                      cache)
 
 
 def _train(
     sequences: list[SequenceFrames], scene: str, out_dir: Path, config: PoseTrainConfig,
     device: torch.device, resumed: dict | None, progress: bool, stop_after: int | None,
+    cache: FrameCache | None,
 ) -> dict:  # fmt: skip
     """The loop of :func:`train_pose`, from scratch or from ``resumed``."""
     seed_everything(config.seed)
     train_sequences, validation = split_validation(sequences)
-    cache = FrameCache()
+    cache = cache if cache is not None else FrameCache()
     single = config.model.head == "none"  # the head-less baseline sees single frames
     dataset = PoseSequenceDataset(
         train_sequences, window=1 if single else config.window,
         stride=1 if single else config.stride, resize=config.resize, crop=config.crop,
         random_crop=True, kinds=(config.image,), cache=cache,
     )  # fmt: skip
-    loader = torch.utils.data.DataLoader(dataset, batch_size=config.batch, shuffle=True,
-                                         drop_last=len(dataset) > config.batch)  # fmt: skip
+    per_epoch = len(dataset)
+    if config.windows_per_epoch is not None:
+        per_epoch = config.windows_per_epoch * (config.window if single else 1)
+    sampler = torch.utils.data.RandomSampler(dataset, num_samples=per_epoch)
+    loader = torch.utils.data.DataLoader(dataset, batch_size=config.batch, sampler=sampler,
+                                         drop_last=per_epoch > config.batch)  # fmt: skip
     validation_config = replace(config, window=min(config.window, *map(len, validation)))
     model = PoseRegressor(config.model).to(device)
     with torch.no_grad():  # start from the mean training pose
