@@ -1,6 +1,6 @@
 """Blind blur estimation on a stand-in split, against the blur recorded in ``blur.csv``.
 
-    python benchmarks/bench_blur_estimation.py --root ROOT [--split test] [--every 1]
+    python benchmarks/bench_blur_estimation.py --root ROOT [--split test] [--budget N]
     python benchmarks/bench_blur_estimation.py --fit ROOT [ROOT ...]
 
 Prints the estimator's and the detector's measures beside their targets (Spearman of estimated
@@ -57,7 +57,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", help="stand-in root with blur.csv files")
     parser.add_argument("--split", default="test")
-    parser.add_argument("--every", type=int, default=1, help="use every n-th frame")
+    parser.add_argument("--budget", type=int, default=None,
+                        help="about how many frames of the split to read (default: all)")
     parser.add_argument("--no-motion", action="store_true", help="skip the camera-motion check")
     parser.add_argument("--fit", nargs="+", metavar="ROOT", help="fit the length model instead")
     args = parser.parse_args()
@@ -68,7 +69,7 @@ def main() -> None:
         parser.error("--root is required unless --fit is given")
 
     start = time.perf_counter()
-    rows = estimation_rows(args.root, args.split, args.every)
+    rows = estimation_rows(args.root, args.split, args.budget)
     per_image_ms = (time.perf_counter() - start) / len(rows) * 1000
     print(f"{len(rows)} {args.split} images (frames and their sharp renders) of {args.root}, "
           f"{per_image_ms:.1f} ms per image (estimate + detector score)")  # fmt: skip
@@ -79,7 +80,7 @@ def main() -> None:
     if args.no_motion:
         return
     print("Spearman against the camera's image-plane motion (estimate / variance of Laplacian):")
-    for row in motion_rank_correlation(args.root, args.split, args.every):
+    for row in motion_rank_correlation(args.root, args.split, args.budget):
         print(f"  {row['scene']:10s} seq {row['sequence']:2d} ({row['frames']:4d} frames): "
               f"{row['estimate_spearman']:+.3f} / {row['laplacian_spearman']:+.3f}")  # fmt: skip
 

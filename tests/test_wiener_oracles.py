@@ -65,7 +65,7 @@ def test_true_path_kernel_explains_the_blurred_frame(quick_root: Path) -> None:
 
 
 def test_oracle_rows_and_tables(quick_root: Path) -> None:
-    rows = oracle_rows(quick_root, "test", every=4)
+    rows = oracle_rows(quick_root, "test", budget=3)  # every 4th of the 12 test frames
     frames = {(r["scene"], r["frame"]) for r in rows}
     assert len(frames) == 3  # chess frames 0 and 4, stairs (half as long) frame 0
     assert len(rows) == len(frames) * (len(VARIANTS) + 1)

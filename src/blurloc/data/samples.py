@@ -1,12 +1,68 @@
-"""Frames and camera paths read from a 7-Scenes-layout root for the figures, which draw arrays."""
+"""Which frames of a 7-Scenes-layout root an experiment reads (a frame budget spread evenly over
+every scene and sequence), and the frames and camera paths the figures draw."""
 
 from __future__ import annotations
 
+import math
 import os
 
 import numpy as np
 
-from .sevenscenes import SPLIT_FILES, list_scenes, load_split, read_image
+from .sevenscenes import SPLIT_FILES, SequenceFrames, list_scenes, load_split, read_image
+
+
+def frame_stride(total: int, budget: int | None = None) -> int:
+    """The stride that reads about ``budget`` of ``total`` frames.
+
+    Parameters
+    ----------
+    total : int
+        Number of frames available.
+    budget : int or None
+        Number of frames to read (>= 1); None reads every frame.
+
+    Returns
+    -------
+    int
+        ``ceil(total / budget)``, at least 1; 1 when ``budget`` is None.
+    """
+    if budget is None:
+        return 1
+    if budget < 1:
+        raise ValueError(f"the frame budget must be at least 1, got {budget}")
+    return max(1, math.ceil(total / budget))
+
+
+def split_frames(
+    root: str | os.PathLike, split: str, budget: int | None = None
+) -> list[tuple[str, SequenceFrames, int]]:
+    """The frames of a split that a pass reads: about ``budget`` of them, spread evenly.
+
+    One stride (:func:`frame_stride` of the split's frame count) is applied to every sequence
+    of every scene, each from its first frame, so that every scene, sequence and part of a
+    sequence is represented in proportion to its length, whatever the split's size. At most
+    ``budget`` plus one frame per sequence. Deterministic.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        The 7-Scenes-layout root.
+    split : str
+        ``"train"`` or ``"test"``.
+    budget : int or None
+        Frames to read from the whole split; None reads every frame.
+
+    Returns
+    -------
+    list of tuple
+        ``(scene, sequence, frame_id)``, scenes in :func:`list_scenes` order, sequences in
+        split-file order, frames in order.
+    """
+    sequences = [(scene, sequence) for scene in list_scenes(root)
+                 for sequence in load_split(root, scene, split)]  # fmt: skip
+    stride = frame_stride(sum(len(sequence) for _, sequence in sequences), budget)
+    return [(scene, sequence, frame) for scene, sequence in sequences
+            for frame in sequence.frame_ids[::stride]]  # fmt: skip
 
 
 def first_test_frames(root: str | os.PathLike, kind: str = "sharp") -> dict[str, np.ndarray]:

@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from ..geometry import frame_to_frame_motion
-from .sevenscenes import SPLIT_FILES, list_scenes, load_split
+from .samples import split_frames
+from .sevenscenes import SPLIT_FILES, list_scenes, load_split, read_image
 
 MOTION_COLUMNS = (
     "scene", "sequences", "frames", "step_median_mm", "step_p95_mm", "rotation_median_deg",
@@ -90,14 +91,36 @@ def read_blur_metadata(root: str | os.PathLike) -> list[dict]:
 
 
 def blur_detection_samples(
-    root: str | os.PathLike, split: str, min_blur_px: float = 3.0, every: int = 1
+    root: str | os.PathLike, split: str, min_blur_px: float = 3.0, budget: int | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Detector scores of a stand-in split: every ``every``-th frame's blurred image (labelled
-    blurred when its mean blur extent is >= ``min_blur_px``; frames with less blur are left out)
-    and its sharp render (labelled sharp). Returns scores, labels (True = blurred) and the blur
-    extents (0 for sharp renders)."""
+    """Detector scores of a stand-in split's frames.
+
+    For each frame read, its sharp render (labelled sharp) and, when its mean blur extent is
+    >= ``min_blur_px``, its stored blurred frame (labelled blurred); frames with less blur are
+    left out of the blurred class.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        The stand-in root (with ``blur.csv`` per sequence).
+    split : str
+        ``"train"`` (to calibrate a threshold) or ``"test"`` (to check it).
+    min_blur_px : float
+        Smallest mean blur extent (px) of a blurred example.
+    budget : int or None
+        About how many frames of the split to read, spread evenly
+        (:func:`~blurloc.data.samples.split_frames`); None reads every frame.
+
+    Returns
+    -------
+    scores : np.ndarray
+        (N,) :func:`blurloc.blur.blur_score` values, px.
+    labels : np.ndarray
+        (N,) bool, True = blurred.
+    extents : np.ndarray
+        (N,) recorded blur extents, px (0 for sharp renders).
+    """
     from ..blur import blur_score
-    from .sevenscenes import read_image
 
     extents = {
         (row["scene"], row["sequence"], row["frame"]): row["mean_px"]
@@ -105,15 +128,13 @@ def blur_detection_samples(
         if row["split"] == split
     }
     scores, labels, lengths = [], [], []
-    for scene in list_scenes(root):
-        for sequence in load_split(root, scene, split):
-            for frame in sequence.frame_ids[::every]:
-                extent = extents[(scene, sequence.number, frame)]
-                scores.append(blur_score(read_image(sequence.path(frame, "sharp"))))
-                labels.append(False)
-                lengths.append(0.0)
-                if extent >= min_blur_px:
-                    scores.append(blur_score(read_image(sequence.path(frame, "color"))))
-                    labels.append(True)
-                    lengths.append(extent)
+    for scene, sequence, frame in split_frames(root, split, budget):
+        extent = extents[(scene, sequence.number, frame)]
+        scores.append(blur_score(read_image(sequence.path(frame, "sharp"))))
+        labels.append(False)
+        lengths.append(0.0)
+        if extent >= min_blur_px:
+            scores.append(blur_score(read_image(sequence.path(frame, "color"))))
+            labels.append(True)
+            lengths.append(extent)
     return np.array(scores), np.array(labels), np.array(lengths)

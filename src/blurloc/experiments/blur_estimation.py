@@ -22,7 +22,8 @@ from ..blur import (
     length_from_features,
     trajectory_kernel,
 )
-from ..data.sevenscenes import list_scenes, load_split, read_depth, read_image
+from ..data.samples import split_frames
+from ..data.sevenscenes import SequenceFrames, read_depth, read_image
 from ..data.stats import read_blur_metadata
 from ..geometry import intrinsics
 from ..poses import rotation_angles_deg
@@ -32,13 +33,14 @@ from .estimation import angle_error_deg
 SHARP_BELOW_PX = 1.5
 
 
-def _frames(root: str | os.PathLike, split: str, every: int = 1) -> list[tuple[dict, object]]:
-    """(blur record, sequence) of every ``every``-th frame of ``split``."""
+def _frames(
+    root: str | os.PathLike, split: str, budget: int | None = None
+) -> list[tuple[dict, SequenceFrames]]:
+    """(blur record, sequence) of the frames of ``split`` that :func:`split_frames` chooses."""
     records = {(r["scene"], r["sequence"], r["frame"]): r for r in read_blur_metadata(root)
                if r["split"] == split}  # fmt: skip
     return [(records[(scene, sequence.number, frame)], sequence)
-            for scene in list_scenes(root) for sequence in load_split(root, scene, split)
-            for frame in sequence.frame_ids[::every]]  # fmt: skip
+            for scene, sequence, frame in split_frames(root, split, budget)]  # fmt: skip
 
 
 def length_training_set(
@@ -47,14 +49,15 @@ def length_training_set(
     sharp_every: int = 4,
     noise_sigma: float = 0.01,
     seed: int = 0,
+    budget: int | None = None,
     progress: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Examples for the length model from a stand-in split.
 
-    Every frame (its recorded extent), and every ``sharp_every``-th frame's sharp render as an
-    example of no blur (extent 0): alternately as stored and with the camera's noise (Gaussian,
-    ``noise_sigma`` on [0, 1] intensities, 8 bits), so that sharp frames with and without noise
-    are both seen.
+    Every frame read (its recorded extent), and the sharp render of every ``sharp_every``-th
+    frame read in each sequence as an example of no blur (extent 0): alternately as stored and
+    with the camera's noise (Gaussian, ``noise_sigma`` on [0, 1] intensities, 8 bits), so that
+    sharp frames with and without noise are both seen.
 
     Parameters
     ----------
@@ -63,11 +66,14 @@ def length_training_set(
     split : str
         ``"train"``: never fit on the test split.
     sharp_every : int
-        Use the sharp render of every n-th frame.
+        Use the sharp render of every n-th frame read in each sequence.
     noise_sigma : float
         Noise added to every other sharp render.
     seed : int
         Seed of that noise.
+    budget : int or None
+        About how many frames of the split to read, spread evenly
+        (:func:`~blurloc.data.samples.split_frames`); None reads every frame.
     progress : bool
         Show a progress bar.
 
@@ -78,14 +84,17 @@ def length_training_set(
         scale.
     """
     rng = np.random.default_rng(seed)
-    features, extents = [], []
-    for record, sequence in tqdm(_frames(root, split), disable=not progress, desc="features"):
+    features, extents, first = [], [], {}
+    frames = _frames(root, split, budget)
+    for index, (record, sequence) in enumerate(tqdm(frames, disable=not progress,
+                                                    desc="features")):  # fmt: skip
         found = blur_features(read_image(sequence.path(record["frame"], "color")))
         features.append(found.values)
         extents.append(record["mean_px"] / found.scale)
-        if record["frame"] % sharp_every == 0:
+        position = index - first.setdefault((record["scene"], record["sequence"]), index)
+        if position % sharp_every == 0:
             sharp = read_image(sequence.path(record["frame"], "sharp"))
-            if record["frame"] // sharp_every % 2:
+            if position // sharp_every % 2:
                 noisy = sharp / 255.0 + rng.normal(0.0, noise_sigma, sharp.shape)
                 sharp = np.round(np.clip(noisy, 0.0, 1.0) * 255.0).astype(np.uint8)
             features.append(blur_features(sharp).values)
@@ -159,11 +168,11 @@ def photo_training_set(count: int = 1500, seed: int = 0) -> tuple[np.ndarray, np
 def estimation_rows(
     root: str | os.PathLike,
     split: str = "test",
-    every: int = 1,
+    budget: int | None = None,
     sharp_renders: bool = True,
     progress: bool = False,
 ) -> list[dict]:
-    """Blind estimate of every ``every``-th frame of a stand-in split beside its recorded blur.
+    """Blind estimate of a stand-in split's frames beside their recorded blur.
 
     Parameters
     ----------
@@ -171,8 +180,9 @@ def estimation_rows(
         Stand-in root (with ``blur.csv`` per sequence).
     split : str
         Split to measure on.
-    every : int
-        Use every n-th frame.
+    budget : int or None
+        About how many frames of the split to read, spread evenly
+        (:func:`~blurloc.data.samples.split_frames`); None reads every frame.
     sharp_renders : bool
         Add a row for each frame's sharp render (as stored, extent 0): the class of sharp
         frames the detector must pass.
@@ -190,7 +200,7 @@ def estimation_rows(
     """
     rows = []
     kinds = ("color", "sharp") if sharp_renders else ("color",)
-    for record, sequence in tqdm(_frames(root, split, every), disable=not progress,
+    for record, sequence in tqdm(_frames(root, split, budget), disable=not progress,
                                  desc=f"estimate {split}"):  # fmt: skip
         for kind in kinds:
             image = read_image(sequence.path(record["frame"], kind))
@@ -261,31 +271,36 @@ def variance_of_laplacian(image: np.ndarray) -> float:
     return float(cv2.Laplacian(np.float32(gray), cv2.CV_32F).var())
 
 
-def camera_motion_px(poses: np.ndarray, distances_m: np.ndarray, focal_px: float) -> np.ndarray:
+def camera_motion_px(
+    poses: np.ndarray, distances_m: np.ndarray, focal_px: float, indices: np.ndarray | None = None
+) -> np.ndarray:
     """How far the image moves per frame interval, from poses and depth only.
 
-    For each frame, half the image-plane motion between its neighbours (frame - 1 to frame + 1;
-    one-sided at the ends): the rotation angle times the focal length plus the translation times
-    the focal length over the frame's median depth. Needs nothing but what 7-Scenes provides, so
-    the same check runs on real frames.
+    For each frame (or each of ``indices``), half the image-plane motion between its neighbours
+    (frame - 1 to frame + 1; one-sided at the ends): the rotation angle times the focal length
+    plus the translation times the focal length over the frame's median depth. Needs nothing
+    but what 7-Scenes provides, so the same check runs on real frames.
 
     Parameters
     ----------
     poses : np.ndarray
         (N, 4, 4) camera-to-world poses of consecutive frames, metres.
     distances_m : np.ndarray
-        (N,) median scene depth of each frame, metres.
+        (M,) median scene depth of each frame evaluated, metres.
     focal_px : float
         Focal length in px at the frames' size.
+    indices : np.ndarray or None
+        (M,) positions in ``poses`` of the frames to evaluate; None evaluates all (M = N).
 
     Returns
     -------
     np.ndarray
-        (N,) image motion per frame interval, px.
+        (M,) image motion per frame interval, px.
     """
     poses = np.asarray(poses, float)
-    after = np.minimum(np.arange(len(poses)) + 1, len(poses) - 1)
-    before = np.maximum(np.arange(len(poses)) - 1, 0)
+    indices = np.arange(len(poses)) if indices is None else np.asarray(indices)
+    after = np.minimum(indices + 1, len(poses) - 1)
+    before = np.maximum(indices - 1, 0)
     rotations = Rotation.from_matrix(poses[:, :3, :3])
     turn = np.radians(rotation_angles_deg(rotations[before], rotations[after]))
     shift = np.linalg.norm(poses[after, :3, 3] - poses[before, :3, 3], axis=1)
@@ -294,27 +309,51 @@ def camera_motion_px(poses: np.ndarray, distances_m: np.ndarray, focal_px: float
 
 
 def motion_rank_correlation(
-    root: str | os.PathLike, split: str = "test", every: int = 1, progress: bool = False
+    root: str | os.PathLike,
+    split: str = "test",
+    budget: int | None = None,
+    progress: bool = False,
 ) -> list[dict]:
     """Rank correlation with the camera's motion: Spearman of the estimated blur length, and of
     the (negated) variance of the Laplacian, against :func:`camera_motion_px`, per sequence and
-    over all frames. One row per sequence (scene, sequence, frames, estimate_spearman,
-    laplacian_spearman) and a last row with scene ``all``."""
+    over all frames read.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A 7-Scenes-layout root with depth images.
+    split : str
+        Split to measure on.
+    budget : int or None
+        About how many frames of the split to read, spread evenly
+        (:func:`~blurloc.data.samples.split_frames`); None reads every frame.
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    list of dict
+        One row per sequence (scene, sequence, frames, estimate_spearman, laplacian_spearman)
+        and a last row with scene ``all``.
+    """
+    chosen: dict[tuple[str, int], tuple[SequenceFrames, list[int]]] = {}
+    for scene, sequence, frame in split_frames(root, split, budget):
+        chosen.setdefault((scene, sequence.number), (sequence, []))[1].append(frame)
     rows, everything = [], []
-    for scene in list_scenes(root):
-        for sequence in load_split(root, scene, split):
-            ids = sequence.frame_ids
-            depths = [read_depth(sequence.path(frame, "depth")) for frame in ids]
-            distances = [float(np.median(d[d > 0])) if (d > 0).any() else 1.0 for d in depths]
-            focal = intrinsics(depths[0].shape[1], depths[0].shape[0])[0, 0]
-            motion = camera_motion_px(sequence.poses(), np.array(distances), focal)
-            values = []
-            for index in tqdm(range(0, len(ids), every), disable=not progress, desc=scene):
-                image = read_image(sequence.path(ids[index], "color"))
-                values.append((motion[index], estimate_motion_blur(image).length_px,
-                               -variance_of_laplacian(image)))  # fmt: skip
-            everything += values
-            rows.append(_rank_row(scene, sequence.number, np.array(values)))
+    for (scene, number), (sequence, ids) in chosen.items():
+        depths = [read_depth(sequence.path(frame, "depth")) for frame in ids]
+        distances = [float(np.median(d[d > 0])) if (d > 0).any() else 1.0 for d in depths]
+        focal = intrinsics(depths[0].shape[1], depths[0].shape[0])[0, 0]
+        indices = np.searchsorted(sequence.frame_ids, ids)
+        motion = camera_motion_px(sequence.poses(), np.array(distances), focal, indices)
+        values = []
+        for frame, moved in tqdm(zip(ids, motion, strict=True), total=len(ids),
+                                 disable=not progress, desc=f"{scene} {number}"):  # fmt: skip
+            image = read_image(sequence.path(frame, "color"))
+            values.append((moved, estimate_motion_blur(image).length_px,
+                           -variance_of_laplacian(image)))  # fmt: skip
+        everything += values
+        rows.append(_rank_row(scene, number, np.array(values)))
     rows.append(_rank_row("all", 0, np.array(everything)))
     return rows
 

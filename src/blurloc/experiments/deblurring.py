@@ -10,7 +10,8 @@ import numpy as np
 from skimage.restoration import richardson_lucy, unsupervised_wiener, wiener
 from tqdm.auto import tqdm
 
-from ..data.sevenscenes import list_scenes, load_split, read_image
+from ..data.samples import split_frames
+from ..data.sevenscenes import read_image
 from ..deconv import blind_kernel, wiener_deconvolve
 from ..images import as_float_image
 from ..metrics import psnr, ssim
@@ -77,7 +78,7 @@ def evaluate_deblurring(
     root: str | os.PathLike,
     split: str,
     methods: dict[str, Callable],
-    every: int = 1,
+    budget: int | None = None,
     progress: bool = False,
 ) -> list[dict]:
     """PSNR and SSIM of each method's output against the stand-in's sharp mid-exposure render.
@@ -90,8 +91,9 @@ def evaluate_deblurring(
         ``"train"`` or ``"test"``.
     methods : dict
         ``{name: method}`` (:func:`deblurring_methods`).
-    every : int
-        Use every ``every``-th frame of each sequence.
+    budget : int or None
+        About how many frames of the split to read, spread evenly
+        (:func:`~blurloc.data.samples.split_frames`); None reads every frame.
     progress : bool
         Show a progress bar.
 
@@ -105,9 +107,7 @@ def evaluate_deblurring(
     ----------
     Eq. 5-7 of the paper (PSNR, SSIM).
     """
-    frames = [(scene, sequence, frame) for scene in list_scenes(root)
-              for sequence in load_split(root, scene, split)
-              for frame in sequence.frame_ids[::every]]  # fmt: skip
+    frames = split_frames(root, split, budget)
     rows = []
     for scene, sequence, frame in tqdm(frames, disable=not progress, desc=f"deblur {split}"):
         blurred = as_float_image(read_image(sequence.path(frame, "color")))
@@ -124,7 +124,7 @@ def evaluate_deblurring(
 
 
 def choose_skimage_balance(
-    root: str | os.PathLike, candidates: Iterable[float], every: int = 1
+    root: str | os.PathLike, candidates: Iterable[float], budget: int | None = None
 ) -> tuple[float, int]:
     """The ``balance`` of scikit-image's ``wiener`` with the best mean PSNR on training frames.
 
@@ -137,8 +137,9 @@ def choose_skimage_balance(
         The stand-in root.
     candidates : iterable of float
         Balances to try.
-    every : int
-        Use every ``every``-th training frame.
+    budget : int or None
+        About how many frames of the training split to read, spread evenly
+        (:func:`~blurloc.data.samples.split_frames`); None reads every frame.
 
     Returns
     -------
@@ -149,19 +150,15 @@ def choose_skimage_balance(
     """
     candidates = list(candidates)
     scores: dict[float, list[float]] = {b: [] for b in candidates}
-    for scene in list_scenes(root):
-        for sequence in load_split(root, scene, "train"):
-            for frame in sequence.frame_ids[::every]:
-                observed = as_float_image(read_image(sequence.path(frame, "color")))
-                kernel = blind_kernel(observed)
-                if kernel is None:
-                    continue
-                truth = as_float_image(read_image(sequence.path(frame, "sharp")))
-                for balance in candidates:
-                    restored = _per_channel(
-                        lambda c, b=balance, k=kernel: wiener(c, k, b), observed
-                    )
-                    scores[balance].append(psnr(truth, np.clip(restored, 0, 1), 1.0))
+    for _, sequence, frame in split_frames(root, "train", budget):
+        observed = as_float_image(read_image(sequence.path(frame, "color")))
+        kernel = blind_kernel(observed)
+        if kernel is None:
+            continue
+        truth = as_float_image(read_image(sequence.path(frame, "sharp")))
+        for balance in candidates:
+            restored = _per_channel(lambda c, b=balance, k=kernel: wiener(c, k, b), observed)
+            scores[balance].append(psnr(truth, np.clip(restored, 0, 1), 1.0))
     used = len(scores[candidates[0]])
     if not used:
         raise ValueError(f"{root}: no blurred training frames to choose the balance on")

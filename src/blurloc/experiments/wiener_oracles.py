@@ -16,7 +16,8 @@ from scipy.stats import linregress
 from tqdm.auto import tqdm
 
 from ..blur import blur_image, estimate_noise_sigma, motion_kernel, trajectory_kernel
-from ..data.sevenscenes import list_scenes, load_split, read_depth, read_image
+from ..data.samples import split_frames
+from ..data.sevenscenes import read_depth, read_image
 from ..data.stats import read_blur_metadata
 from ..data.synth import STANDIN_MANIFEST, SynthConfig, exposure_tracks, sequence_trajectory
 from ..deconv import blind_kernel, estimate_nsr, wiener_deconvolve
@@ -161,10 +162,25 @@ def exposure_kernel(tracks: np.ndarray) -> np.ndarray:
 
 
 def oracle_rows(
-    root: str | os.PathLike, split: str = "test", every: int = 1, progress: bool = False
+    root: str | os.PathLike,
+    split: str = "test",
+    budget: int | None = None,
+    progress: bool = False,
 ) -> list[dict]:
-    """Wiener deconvolution of every ``every``-th stand-in frame of ``split`` in each of
-    VARIANTS, scored against the sharp mid-exposure render.
+    """Wiener deconvolution of a stand-in split's frames in each of VARIANTS, scored against the
+    sharp mid-exposure render.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        The stand-in root (with its manifest, ``blur.csv``, sharp renders and depth).
+    split : str
+        Split to measure on.
+    budget : int or None
+        About how many frames of the split to read, spread evenly
+        (:func:`~blurloc.data.samples.split_frames`); None reads every frame.
+    progress : bool
+        Show a progress bar.
 
     Returns
     -------
@@ -175,9 +191,7 @@ def oracle_rows(
     config, seed = standin_settings(root)
     records = {(r["scene"], r["sequence"], r["frame"]): r for r in read_blur_metadata(root)}
     camera = intrinsics(config.width, config.height)
-    jobs = [(scene, sequence, frame) for scene in list_scenes(root)
-            for sequence in load_split(root, scene, split)
-            for frame in sequence.frame_ids[::every]]  # fmt: skip
+    jobs = split_frames(root, split, budget)
     rows, paths = [], {}
     for scene, sequence, frame in tqdm(jobs, disable=not progress, desc=f"oracles {split}"):
         if (scene, sequence.number) not in paths:
