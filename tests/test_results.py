@@ -16,8 +16,8 @@ from blurloc.reproduction import proposed_measured_vs_printed, ratios_by_item
 
 
 def test_model_path_follows_notebook_04_layout(tmp_path: Path) -> None:
-    path = results.model_path(tmp_path, "wiener", "lstm", "fire")
-    assert path == tmp_path / "pose_models" / "wiener" / "lstm" / "fire" / "best.pt"
+    path = results.model_path(tmp_path, "wiener", "lstm", "fire", seed=3)
+    assert path == tmp_path / "pose_models" / "wiener" / "lstm" / "fire" / "seed-3" / "best.pt"
 
 
 def test_scene_predictions_loads_the_condition_model_on_its_frames(
