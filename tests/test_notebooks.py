@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import re
 import json
 from pathlib import Path
 
@@ -76,3 +77,16 @@ def test_run_notebooks_command_passes_its_parameters(monkeypatch: pytest.MonkeyP
                  "05_results_figures"]) == 0  # fmt: skip
     assert calls == [{"quick": False, "names": ["05_results_figures"],
                       "parameters": {"data_root": "/data/7scenes", "device": "cpu"}}]  # fmt: skip
+
+
+def test_every_equation_of_the_paper_is_stated_once() -> None:
+    """Eq. 1-17 each appear, labelled, in the display math of exactly one notebook."""
+    where: dict[int, list[str]] = {n: [] for n in range(1, 18)}
+    for name in notebook_names():
+        markdown = "".join("".join(c["source"]) for c in _cells(name)
+                           if c["cell_type"] == "markdown")  # fmt: skip
+        display = " ".join(markdown.split("$$")[1::2])
+        for number in where:
+            if re.search(rf"\(eq\. {number}[),]", display):
+                where[number].append(name)
+    assert {n: names for n, names in where.items() if len(names) != 1} == {}
