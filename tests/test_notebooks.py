@@ -40,7 +40,7 @@ def test_every_notebook_is_clean_and_parameterised() -> None:
 
 
 @pytest.mark.notebooks
-def test_notebooks_run_in_quick_mode(tmp_path: Path) -> None:
+def test_notebooks_run_in_quick_mode(tmp_path: Path, capfd: pytest.CaptureFixture) -> None:
     figures = tmp_path / "figures"
     parameters = {
         "quick": True,
@@ -65,6 +65,10 @@ def test_notebooks_run_in_quick_mode(tmp_path: Path) -> None:
             if o.get("output_type") == "error"
         ]
         assert not errors, name
+    log = capfd.readouterr()
+    noise = [line for line in (log.out + log.err).splitlines()
+             if "WARNING" in line or "ERROR" in line]  # fmt: skip
+    assert noise == [], noise[:3]  # a clean log: the kernels' own warnings are silenced
 
 
 def test_run_notebooks_command_passes_its_parameters(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -49,7 +49,8 @@ def _check_data(args: argparse.Namespace) -> int:
 
 
 def _run_notebooks(args: argparse.Namespace) -> int:
-    from .runner import NotebookError, run_notebooks
+    from .publish import publish_notebooks
+    from .runner import NotebookError, notebook_names, run_notebooks
 
     overrides = {"data_root": args.data_root, "results_dir": args.results_dir,
                  "figures_dir": args.figures_dir, "device": args.device}  # fmt: skip
@@ -59,6 +60,9 @@ def _run_notebooks(args: argparse.Namespace) -> int:
     except NotebookError as error:
         print(f"error: {error}", file=sys.stderr)
         return 1
+    if not args.quick and not args.notebooks and not parameters:  # the full run: publish it
+        written = publish_notebooks(notebook_names())
+        print(f"published {len(written)} executed notebooks in {written[0].parent}")
     return 0
 
 

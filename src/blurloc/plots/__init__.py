@@ -4,6 +4,7 @@
 from .blur import plot_detection, plot_estimation_accuracy, plot_kernels, plot_spectra
 from .deconv import plot_deblurring_process
 from .pose import (
+    plot_dose_response,
     plot_error_distributions,
     plot_pipeline,
     plot_pose_training_curves,
@@ -34,6 +35,7 @@ __all__ = [
     "plot_blur_pairs",
     "plot_deblurring_process",
     "plot_detection",
+    "plot_dose_response",
     "plot_error_distributions",
     "plot_estimation_accuracy",
     "plot_exposure",

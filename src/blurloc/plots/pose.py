@@ -238,3 +238,46 @@ def plot_predicted_paths(
         axis.set_title(titles[label])
         axis.legend(fontsize=7)
     return figure
+
+
+@styled
+def plot_dose_response(table: list[dict], title: str) -> plt.Figure:
+    """Pose error against blur strength, blurred vs deblurred input, and their paired
+    difference with its interval.
+
+    Parameters
+    ----------
+    table : list of dict
+        Rows of :func:`blurloc.experiments.dose.dose_response_table`, one per blur strength.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Three panels against the frames' median blur (px): the median position error (m) of
+        each input; the paired difference deblurred - blurred in position (m) and in
+        orientation (degrees), each with its 95 % interval and a line at zero.
+    """
+    blur = np.array([row["frame_median_blur_px"] for row in table])
+    figure, axes = plt.subplots(1, 3, figsize=(11, 3.2))
+    for key, label in (("blurred_position_m", "blurred"), ("deblurred_position_m", "deblurred")):
+        axes[0].plot(blur, [row[key] for row in table], "o-", label=label,
+                     color=METHOD_COLOURS.get(label))  # fmt: skip
+    axes[0].set(xlabel="median blur in the frames (px)", ylabel="median position error (m)",
+                title="Error by input")  # fmt: skip
+    axes[0].set_ylim(bottom=0)
+    axes[0].legend(fontsize=8)
+    for axis, prefix, unit in ((axes[1], "position", "m"), (axes[2], "orientation", "°")):
+        key = "position_difference_m" if prefix == "position" else "orientation_difference_deg"
+        means = np.array([row[key] for row in table])
+        low = np.array([row[f"{prefix}_ci_low"] for row in table])
+        high = np.array([row[f"{prefix}_ci_high"] for row in table])
+        axis.errorbar(blur, means, yerr=[means - low, high - means], fmt="o-", capsize=3,
+                      color="#555")  # fmt: skip
+        axis.axhline(0, color="black", linewidth=0.8)
+        axis.set(xlabel="median blur in the frames (px)",
+                 ylabel=f"deblurred − blurred ({unit})",
+                 title=f"{prefix.capitalize()}: paired difference, 95 % interval")  # fmt: skip
+    figure.suptitle(title, fontsize=10)
+    return figure

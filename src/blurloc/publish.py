@@ -1,0 +1,168 @@
+"""Executed notebooks a reader can open without running anything.
+
+A full ``make reproduce`` executes every notebook into ``build/``. The published copies under
+``notebooks/executed/`` are the current notebooks (their Markdown as it is now) with the
+outputs of that run attached to their code cells, which must be the very code that ran:
+:func:`publish_notebooks` refuses a notebook whose code cells differ from the executed ones,
+and :func:`stale_notebooks` (run by the tests) lists published copies whose code no longer
+matches the sources.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import os
+from pathlib import Path
+
+from .config import BUILD_DIR, NOTEBOOKS_DIR
+from .files import atomic_path
+
+#: Where the published copies live.
+PUBLISHED_DIR = NOTEBOOKS_DIR / "executed"
+
+#: The tag papermill gives the cell holding the parameters it injected.
+INJECTED_TAG = "injected-parameters"
+
+
+def code_sources(notebook: dict) -> list[str]:
+    """The source of every code cell, in order, without papermill's injected parameters.
+
+    Parameters
+    ----------
+    notebook : dict
+        A notebook as read by :func:`json.load`.
+
+    Returns
+    -------
+    list of str
+        One source text per code cell.
+    """
+    return ["".join(cell["source"]) for cell in notebook["cells"]
+            if cell["cell_type"] == "code" and not _injected(cell)]  # fmt: skip
+
+
+def _injected(cell: dict) -> bool:
+    return INJECTED_TAG in cell.get("metadata", {}).get("tags", [])
+
+
+def _read(path: Path) -> dict:
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such notebook")
+    return json.loads(path.read_text())
+
+
+def published_copy(source: dict, executed: dict, name: str = "notebook") -> dict:
+    """``source`` with the outputs of ``executed`` attached to its code cells.
+
+    Parameters
+    ----------
+    source : dict
+        The notebook as it is now (no outputs).
+    executed : dict
+        The same notebook executed by papermill.
+    name : str
+        Named in the error.
+
+    Returns
+    -------
+    dict
+        ``source``'s cells with the executed code cells' outputs and execution counts, and
+        papermill's injected-parameters cell after the parameters cell.
+
+    Raises
+    ------
+    ValueError
+        If the code cells of the two differ (naming the first that does).
+    """
+    ran = [c for c in executed["cells"] if c["cell_type"] == "code" and not _injected(c)]
+    now = code_sources(source)
+    if len(ran) != len(now):
+        raise ValueError(f"{name}: {len(ran)} code cells ran, the notebook has {len(now)}; "
+                         "run the notebooks again (make reproduce)")  # fmt: skip
+    for index, (cell, text) in enumerate(zip(ran, now, strict=True)):
+        if "".join(cell["source"]) != text:
+            raise ValueError(f"{name}: code cell {index} differs from the one that ran; "
+                             "run the notebooks again (make reproduce)")  # fmt: skip
+    published = copy.deepcopy(source)
+    outputs = iter(ran)
+    cells = []
+    for cell in published["cells"]:
+        if cell["cell_type"] == "code":
+            executed_cell = next(outputs)
+            cell["outputs"] = executed_cell.get("outputs", [])
+            cell["execution_count"] = executed_cell.get("execution_count")
+        cells.append(cell)
+        if "parameters" in cell.get("metadata", {}).get("tags", []):
+            cells += [c for c in executed["cells"] if _injected(c)]
+    published["cells"] = cells
+    return published
+
+
+def publish_notebooks(
+    names: list[str],
+    executed_dir: str | os.PathLike = BUILD_DIR,
+    out_dir: str | os.PathLike = PUBLISHED_DIR,
+) -> list[Path]:
+    """Write the published copy of each notebook (see :func:`published_copy`).
+
+    Parameters
+    ----------
+    names : list of str
+        Notebook names without ``.ipynb``.
+    executed_dir : str or os.PathLike
+        Where the executed notebooks are (default ``build/``).
+    out_dir : str or os.PathLike
+        Where the published copies go (default :data:`PUBLISHED_DIR`).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+
+    Raises
+    ------
+    FileNotFoundError
+        If an executed notebook is missing.
+    ValueError
+        If a notebook's code changed since it ran.
+    """
+    out_dir = Path(out_dir)
+    # every notebook is checked before any copy is written
+    copies = {name: published_copy(_read(NOTEBOOKS_DIR / f"{name}.ipynb"),
+                                   _read(Path(executed_dir) / f"{name}.ipynb"), name)
+              for name in names}  # fmt: skip
+    out_dir.mkdir(parents=True, exist_ok=True)
+    written = []
+    for name, notebook in copies.items():
+        path = out_dir / f"{name}.ipynb"
+        with atomic_path(path) as temporary:
+            Path(temporary).write_text(json.dumps(notebook, indent=1, ensure_ascii=False) + "\n")
+        written.append(path)
+    return written
+
+
+def stale_notebooks(
+    names: list[str], published_dir: str | os.PathLike = PUBLISHED_DIR
+) -> list[str]:
+    """Notebooks whose published copy is missing or holds other code than the source.
+
+    Parameters
+    ----------
+    names : list of str
+        Notebook names without ``.ipynb``.
+    published_dir : str or os.PathLike
+        Where the published copies are.
+
+    Returns
+    -------
+    list of str
+        The names whose copy is missing, or whose code cells differ from the notebook's.
+    """
+    stale = []
+    for name in names:
+        path = Path(published_dir) / f"{name}.ipynb"
+        source = _read(NOTEBOOKS_DIR / f"{name}.ipynb")
+        if not path.is_file() or code_sources(_read(path)) != code_sources(source):
+            stale.append(name)
+    return stale
