@@ -208,3 +208,21 @@ def test_photo_video_blurs_with_speed_and_the_shipped_network_does_not_make_it_w
         assert after > before - 0.1, (before, after)
     with pytest.raises(ValueError, match="RGB"):
         photo_video(photo[..., 0])
+
+
+def test_the_shipped_network_does_not_drift_over_a_long_video(quick_root: Path) -> None:
+    """1008 frames: a stand-in sequence played forward and back 72 times (continuous motion,
+    period 14). Any 98 consecutive frames hold each phase of the period exactly 7 times, so
+    without a drifting recurrent state the first and last 98 frames score the same."""
+    sequence = load_split(quick_root, "chess", "test")[0]
+    order = [*range(len(sequence)), *range(len(sequence) - 2, 0, -1)]  # 0..7, 6..1: period 14
+    blurred = np.stack([read_image(sequence.path(f)) for f in sequence.frame_ids])[order]
+    sharp = np.stack([read_image(sequence.path(f, "sharp")) for f in sequence.frame_ids])[order]
+    repeats = 1008 // len(order)
+    network = load_video_deblur(DEFAULT_CHECKPOINT)
+    restored = restore_sequence(network, np.tile(blurred, (repeats, 1, 1, 1)))
+    sharp = np.tile(sharp, (repeats, 1, 1, 1))
+    window = 7 * len(order)
+    first = mean_frame_psnr([(restored[:window], sharp[:window])])
+    last = mean_frame_psnr([(restored[-window:], sharp[-window:])])
+    assert abs(last - first) < 0.3, (first, last)
