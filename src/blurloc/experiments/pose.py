@@ -1,7 +1,8 @@
-"""The pose experiments of notebooks 04-05: the matrix of trainings (per scene, train on one kind
-of input frames, blurred, blind-Wiener, network-deblurred or sharp, with one head, test on the
-same kind), the mean-pose baseline, a saved model's per-frame predictions, and the tables built
-from the matrix's summaries (the overview, Tables I-II beside the paper, the long sequences)."""
+"""The pose experiments of notebooks 04-06: the matrix of trainings (per scene and seed, train on
+one kind of input frames, blurred, blind-Wiener, network-deblurred or sharp, with one head, test
+on the same kind), the mean-pose baseline, the blur at the network's input, a saved model's
+per-frame predictions, and the tables built from the matrix's summaries (the overview with its
+seed spread, has the regressor learned, Tables I-II beside the paper)."""
 
 from __future__ import annotations
 
@@ -478,19 +479,3 @@ def median_step(positions: np.ndarray) -> float:
         Median of the N - 1 step lengths, metres.
     """
     return float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1)))
-
-
-def paper_deblur_drop() -> float:
-    """The paper's drop of the combined error from Table I (blurred) to Table II (deblurred).
-
-    Returns
-    -------
-    float
-        Mean over the printed scenes of Table I's combined error minus that of Table II.
-
-    References
-    ----------
-    Tables I-II and eq. 14 of the paper.
-    """
-    return float(np.mean(list(paper_values("table1", "combined").values()))
-                 - np.mean(list(paper_values("table2", "combined").values())))  # fmt: skip
