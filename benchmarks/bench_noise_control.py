@@ -13,7 +13,6 @@ of every test sequence, with the shipped checkpoint. Prints both gains side by s
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
 
 import numpy as np
 import torch
@@ -40,7 +39,7 @@ def main() -> None:
                               "noisy sharp, restored": []}  # fmt: skip
     for scene in list_scenes(args.root):
         for sequence in load_split(args.root, scene, "test"):
-            part = replace(sequence, frame_ids=sequence.frame_ids[: args.frames])
+            part = sequence.first(args.frames)
             blurred = np.stack([read_image(part.path(f)) for f in part.frame_ids])
             sharp = np.stack([read_image(part.path(f, "sharp")) for f in part.frame_ids])
             linear = srgb_to_linear(sharp.astype(np.float64) / 255.0)

@@ -20,6 +20,7 @@ from blurloc.data import (
     read_pose,
     read_split,
 )
+from blurloc.files import link_or_copy
 from blurloc.geometry import quaternion_to_rotation
 from blurloc.train.datasets import PoseSequenceDataset
 
@@ -218,3 +219,19 @@ def test_window_longer_than_sequence(quick_root: Path) -> None:
     sequence = load_split(quick_root, "stairs", "test")[0]
     with pytest.raises(DataError, match="shorter than the window"):
         PoseSequenceDataset([sequence], window=5)
+
+
+def test_a_sequence_cut_to_its_first_frames(quick_root: Path) -> None:
+    sequence = load_split(quick_root, "chess", "train")[0]
+    cut = sequence.first(3)
+    assert cut.frame_ids == sequence.frame_ids[:3] and cut.folder == sequence.folder
+    assert sequence.first(None) == sequence and len(sequence.first(10**6)) == len(sequence)
+
+
+def test_link_or_copy_carries_a_file_over_and_replaces_the_target(tmp_path: Path) -> None:
+    source, target = tmp_path / "a.txt", tmp_path / "b.txt"
+    source.write_text("pose")
+    target.write_text("stale")
+    link_or_copy(source, target)
+    assert target.read_text() == "pose"
+    assert target.stat().st_ino == source.stat().st_ino  # a hard link on this file system

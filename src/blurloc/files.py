@@ -1,9 +1,11 @@
 """Files the commands read and write: an output never over an input, every file written whole
-(atomic rename), images kept at their own bit depth and with their alpha channel."""
+(atomic rename), images kept at their own bit depth and with their alpha channel, files carried
+into a copy by hard link."""
 
 from __future__ import annotations
 
 import os
+import shutil
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -201,3 +203,22 @@ def write_image_file(
         if not written:
             raise ValueError(f"{path}: cannot write this image")
     return lost
+
+
+def link_or_copy(source: str | os.PathLike, target: str | os.PathLike) -> None:
+    """Carry ``source`` over to ``target``: a hard link (no copy of the bytes) where the file
+    system allows it, else a copy; an existing ``target`` is replaced.
+
+    Parameters
+    ----------
+    source : str or os.PathLike
+        An existing file.
+    target : str or os.PathLike
+        Where it must also appear.
+    """
+    target = Path(target)
+    target.unlink(missing_ok=True)
+    try:
+        os.link(source, target)
+    except OSError:
+        shutil.copyfile(source, target)

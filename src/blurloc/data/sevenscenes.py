@@ -15,7 +15,7 @@ from __future__ import annotations
 import os
 import re
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import cv2
@@ -147,6 +147,10 @@ class SequenceFrames:
 
     def __len__(self) -> int:
         return len(self.frame_ids)
+
+    def first(self, count: int | None) -> SequenceFrames:
+        """The same sequence cut to its first ``count`` frames (all of them when None)."""
+        return replace(self, frame_ids=self.frame_ids[:count])
 
     def poses(self) -> np.ndarray:
         """All camera-to-world poses (N, 4, 4), validated."""

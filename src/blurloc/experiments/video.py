@@ -7,7 +7,6 @@ from __future__ import annotations
 import os
 import shutil
 from collections.abc import Callable
-from dataclasses import replace
 from pathlib import Path
 
 import cv2
@@ -16,6 +15,7 @@ from tqdm.auto import tqdm
 
 from ..data.sevenscenes import SPLIT_FILES, list_scenes, load_split, read_image
 from ..deconv import deblur_blind
+from ..files import link_or_copy
 from ..images import as_float_image
 from ..metrics import psnr, ssim
 
@@ -65,8 +65,7 @@ def evaluate_video_deblurring(
         ``psnr_db`` and ``ssim`` (data range 1, against the sharp frame).
     """
     rows = []
-    part = slice(frames_per_sequence)
-    sequences = [replace(s, frame_ids=s.frame_ids[part]) for scene in list_scenes(root)
+    sequences = [s.first(frames_per_sequence) for scene in list_scenes(root)
                  for s in load_split(root, scene, split)]  # fmt: skip
     for sequence in tqdm(sequences, disable=not progress, desc=f"evaluate {split}"):
         blurred = np.stack([read_image(sequence.path(f, "color")) for f in sequence.frame_ids])
@@ -128,15 +127,5 @@ def write_deblurred_root(
             for kind in ("pose", "sharp"):
                 source = sequence.path(frame, kind)
                 if source.is_file():
-                    _link_or_copy(source, folder / source.name)
+                    link_or_copy(source, folder / source.name)
     return out_root
-
-
-def _link_or_copy(source: Path, target: Path) -> None:
-    """Carry ``source`` over to ``target``: a hard link (no copy of the bytes) where the file
-    system allows it, else a copy."""
-    target.unlink(missing_ok=True)
-    try:
-        os.link(source, target)
-    except OSError:
-        shutil.copyfile(source, target)

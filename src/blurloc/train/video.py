@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -75,8 +74,7 @@ def load_video_splits(
     ValueError
         If the frames would take more than ``max_bytes`` (naming the root), or a file is bad.
     """
-    part = slice(frames_per_sequence)
-    selected = [(scene, split, replace(sequence, frame_ids=sequence.frame_ids[part]))
+    selected = [(scene, split, sequence.first(frames_per_sequence))
                 for scene in scenes or list_scenes(root) for split in ("train", "test")
                 for sequence in load_split(root, scene, split)]  # fmt: skip
     if selected:
