@@ -50,13 +50,13 @@ def test_every_strength_is_rendered_with_the_same_seed_and_trained_on_both_input
         calls.append(("render", Path(root).name, config.blur_strength, seed))
         return Path(root)
 
-    def fake_matrix(roots, scenes, runs, config, out_dir, seeds):
+    def fake_matrix(roots, scenes, runs, config, out_dir, seeds, workers):
         calls.append(("train", sorted(roots), runs, seeds))
         return [{"scene": "chess", "seed": s, "condition": c, "head": h}
                 for c, h in runs for s in seeds], []  # fmt: skip
 
     monkeypatch.setattr(dose, "synthesize", fake_synthesize)
-    monkeypatch.setattr(dose, "write_deblurred_root", lambda root, out, method: Path(out))
+    monkeypatch.setattr(dose, "write_deblurred_root", lambda root, out, method, workers: Path(out))
     monkeypatch.setattr(dose, "blur_at_input", lambda root, config: {
         "frame_median_px": 1.0, "input_median_px": 0.5})
     monkeypatch.setattr(dose, "run_pose_matrix", fake_matrix)

@@ -25,6 +25,7 @@ from blurloc.experiments.pose import (
     seed_spread,
 )
 from blurloc.metrics import ACCURACY_THRESHOLDS
+from blurloc.models.pose import PoseConfig
 from blurloc.paper import paper_values
 from blurloc.poses import PosePair
 from blurloc.train.config import PoseTrainConfig
@@ -197,3 +198,22 @@ def test_paper_table_rows_set_measured_beside_printed() -> None:
 def test_median_step() -> None:
     path = np.array([[0.0, 0, 0], [3, 4, 0], [3, 4, 1], [3, 4, 3]])
     assert median_step(path) == pytest.approx(2.0)
+
+
+def test_matrix_in_two_processes_matches_the_serial_run(quick_root: Path, tmp_path: Path) -> None:
+    """Spreading the runs over worker processes changes where they run, not what they give:
+    with one thread per run either way, every summary and every per-frame error is the same,
+    in the same order."""
+    config = PoseTrainConfig(epochs=1, windows_per_epoch=4, resize=32, crop=28, window=2, batch=2,
+                             threads=1, model=PoseConfig(hidden=8))  # fmt: skip
+    runs = [("blurred", "lstm"), ("blurred", "none")]
+    matrix = {workers: run_pose_matrix({"blurred": quick_root}, ["chess"], runs, config,
+                                       tmp_path / f"workers-{workers}", (0, 1), workers=workers)
+              for workers in (1, 2)}  # fmt: skip
+    (serial, serial_frames), (parallel, parallel_frames) = matrix[1], matrix[2]
+    drop = {"train_seconds"}
+    assert [{k: v for k, v in r.items() if k not in drop} for r in parallel] == [
+        {k: v for k, v in r.items() if k not in drop} for r in serial]
+    assert parallel_frames == serial_frames
+    with pytest.raises(ValueError, match="workers"):
+        run_pose_matrix({"blurred": quick_root}, ["chess"], runs, config, tmp_path, workers=0)

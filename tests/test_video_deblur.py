@@ -17,7 +17,12 @@ from blurloc.data.frames import list_frames
 from blurloc.experiments.photo_video import photo_video
 from blurloc.experiments.registration import registered_psnr
 from blurloc.experiments.video import write_deblurred_root
-from blurloc.inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_sequence
+from blurloc.inference import (
+    DEFAULT_CHECKPOINT,
+    VideoRestorer,
+    load_video_deblur,
+    restore_sequence,
+)
 from blurloc.metrics import mean_frame_psnr
 from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
 from blurloc.train.config import VideoTrainConfig
@@ -173,6 +178,26 @@ def test_deblurred_root_keeps_the_layout(quick_root: Path, tmp_path: Path) -> No
     np.testing.assert_array_equal(read_image(copy.path(frame)), inverted)
     np.testing.assert_array_equal(copy.poses(), original.poses())
     assert len(list_frames(copy.folder)) == len(copy)
+
+
+def test_deblurred_root_in_worker_processes_matches_one_process(
+    quick_root: Path, tmp_path: Path
+) -> None:
+    """The shipped network deblurring a root in two worker processes writes the frames that
+    one process writes (up to one grey level: the thread count changes float rounding), and
+    what :func:`restore_sequence` gives for the sequence."""
+    restorer = VideoRestorer(DEFAULT_CHECKPOINT)
+    copies = {workers: write_deblurred_root(quick_root, tmp_path / f"w{workers}", restorer,
+                                            workers=workers) for workers in (1, 2)}  # fmt: skip
+    sequence = load_split(quick_root, "chess", "test")[0]
+    blurred = np.stack([read_image(sequence.path(f)) for f in sequence.frame_ids])
+    expected = restore_sequence(load_video_deblur(DEFAULT_CHECKPOINT), blurred)
+    for copy in copies.values():
+        written = load_split(copy, "chess", "test")[0]
+        frames = np.stack([read_image(written.path(f)) for f in written.frame_ids])
+        assert np.abs(frames.astype(int) - expected).max() <= 1
+    with pytest.raises(ValueError, match="workers"):
+        write_deblurred_root(quick_root, tmp_path / "w0", restorer, workers=0)
 
 
 def test_registered_psnr_finds_a_known_shift() -> None:

@@ -8,10 +8,12 @@ only: a crafted file cannot run code) and must carry the format tag of its kind
 
 from __future__ import annotations
 
+import functools
 import os
 import pickle
 import warnings
 from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -134,6 +136,38 @@ def load_video_deblur(path: str | os.PathLike, device: str = "cpu") -> VideoDebl
         raise ValueError(f"{path}: damaged network configuration ({error})") from None
     _build(path, model, payload["model"])
     return model.to(device).eval()
+
+
+@dataclass(frozen=True)
+class VideoRestorer:
+    """The video network of a checkpoint as a picklable function of a whole video.
+
+    Calling it restores one uint8 (T, H, W, 3) video (:func:`restore_sequence`, eq. 8-11). Only
+    the checkpoint's path travels to a worker process; each process loads the network on its
+    first call and keeps it (so :func:`blurloc.experiments.video.write_deblurred_root` can
+    spread sequences over processes).
+
+    Parameters
+    ----------
+    checkpoint : str or os.PathLike
+        A ``video-deblur`` checkpoint (e.g. :data:`DEFAULT_CHECKPOINT`).
+    device : str
+        Where the network runs.
+    """
+
+    checkpoint: str | os.PathLike
+    device: str = "cpu"
+
+    def __call__(self, blurred: np.ndarray) -> np.ndarray:
+        """``blurred`` (uint8 (T, H, W, 3), T >= 2) restored, same shape and dtype."""
+        model = _loaded_video_deblur(str(self.checkpoint), self.device)
+        return restore_sequence(model, blurred, self.device)
+
+
+@functools.cache
+def _loaded_video_deblur(path: str, device: str) -> VideoDeblurNet:
+    """:func:`load_video_deblur`, once per process and checkpoint."""
+    return load_video_deblur(path, device)
 
 
 def load_pose_model(

@@ -34,6 +34,7 @@ def blur_dose_response(
     seeds: tuple[int, ...],
     seed: int = 0,
     progress: bool = False,
+    workers: int = 1,
 ) -> list[dict]:
     """Train and test the pose regressor on blurred and deblurred frames at each blur strength.
 
@@ -60,6 +61,10 @@ def blur_dose_response(
         Seed of the renders (trajectories and noise), the same at every strength.
     progress : bool
         Show a progress bar over the strengths.
+    workers : int
+        Processes for deblurring and training (see
+        :func:`~blurloc.experiments.pose.run_pose_matrix`); with more than 1, ``deblur`` must be
+        picklable (e.g. :class:`~blurloc.inference.VideoRestorer`).
 
     Returns
     -------
@@ -75,11 +80,13 @@ def blur_dose_response(
         name = f"blur-{strength:g}"
         root = synthesize(out_dir / name, scenes=scenes, seed=seed, progress=False,
                           config=replace(synth_config, blur_strength=strength))  # fmt: skip
-        deblurred = write_deblurred_root(root, out_dir / f"{name}-deblurred", deblur)
+        deblurred = write_deblurred_root(root, out_dir / f"{name}-deblurred", deblur,
+                                         workers=workers)
         blur = blur_at_input(root, config)
         summaries, _ = run_pose_matrix({"blurred": root, "rnn": deblurred}, scenes,
                                        [("blurred", "lstm"), ("rnn", "lstm")], config,
-                                       out_dir / f"{name}-models", seeds)  # fmt: skip
+                                       out_dir / f"{name}-models", seeds,
+                                       workers=workers)  # fmt: skip
         rows += [{"blur_strength": strength, "frame_median_blur_px": blur["frame_median_px"],
                   "input_median_blur_px": blur["input_median_px"], **row}
                  for row in summaries]  # fmt: skip

@@ -4,16 +4,19 @@ stage reads them with the same reader)."""
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 import shutil
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import cv2
 import numpy as np
+import torch
 from tqdm.auto import tqdm
 
-from ..data.sevenscenes import SPLIT_FILES, list_scenes, load_split, read_image
+from ..data.sevenscenes import SPLIT_FILES, SequenceFrames, list_scenes, load_split, read_image
 from ..deconv import deblur_blind
 from ..files import link_or_copy
 from ..images import as_float_image
@@ -87,11 +90,12 @@ def write_deblurred_root(
     out_root: str | os.PathLike,
     method: Callable[[np.ndarray], np.ndarray],
     progress: bool = False,
+    workers: int = 1,
 ) -> Path:
     """Copy a 7-Scenes-layout root with every colour frame replaced by ``method``'s output.
 
     Poses, split files and the stand-in's sharp frames are carried over, so the pose stage
-    reads the copy like the original.
+    reads the copy like the original. One sequence is held in memory at a time per process.
 
     Parameters
     ----------
@@ -100,32 +104,61 @@ def write_deblurred_root(
     out_root : str or os.PathLike
         Where the copy is written.
     method : callable
-        Function of a whole uint8 (T, H, W, 3) sequence returning one of that shape.
+        Function of a whole uint8 (T, H, W, 3) sequence returning one of that shape; with
+        ``workers > 1`` it must be picklable (a module-level function such as
+        :func:`wiener_sequence`, or :class:`~blurloc.inference.VideoRestorer`).
     progress : bool
         Show a progress bar.
+    workers : int
+        Processes that deblur sequences at once, each with one PyTorch thread (1: in this
+        process).
 
     Returns
     -------
     pathlib.Path
         ``out_root``.
+
+    Raises
+    ------
+    ValueError
+        If ``workers`` is not positive.
     """
+    if workers < 1:
+        raise ValueError(f"workers must be >= 1, got {workers}")
     root, out_root = Path(root), Path(out_root)
-    sequences = [(scene, s) for scene in list_scenes(root) for split in SPLIT_FILES
-                 for s in load_split(root, scene, split)]  # fmt: skip
     for scene in list_scenes(root):
         (out_root / scene).mkdir(parents=True, exist_ok=True)
         for name in SPLIT_FILES.values():
             shutil.copyfile(root / scene / name, out_root / scene / name)
-    for scene, sequence in tqdm(sequences, disable=not progress, desc="write deblurred"):
-        folder = out_root / scene / sequence.folder.name
-        folder.mkdir(parents=True, exist_ok=True)
-        blurred = np.stack([read_image(sequence.path(f, "color")) for f in sequence.frame_ids])
-        restored = method(blurred)
-        for index, frame in enumerate(sequence.frame_ids):
-            target = folder / sequence.path(frame, "color").name
-            cv2.imwrite(str(target), restored[index][..., ::-1])
-            for kind in ("pose", "sharp"):
-                source = sequence.path(frame, kind)
-                if source.is_file():
-                    link_or_copy(source, folder / source.name)
+    jobs = [(sequence, out_root / scene / sequence.folder.name, method)
+            for scene in list_scenes(root) for split in SPLIT_FILES
+            for sequence in load_split(root, scene, split)]  # fmt: skip
+    bar = tqdm(total=len(jobs), disable=not progress, desc="write deblurred")
+    if workers == 1:
+        for job in jobs:
+            _write_deblurred_sequence(job)
+            bar.update()
+    else:
+        context = multiprocessing.get_context("spawn")  # a forked torch may hang on its threads
+        with ProcessPoolExecutor(workers, mp_context=context, initializer=torch.set_num_threads,
+                                 initargs=(1,)) as pool:  # fmt: skip
+            for _ in pool.map(_write_deblurred_sequence, jobs):
+                bar.update()
+    bar.close()
     return out_root
+
+
+def _write_deblurred_sequence(
+    job: tuple[SequenceFrames, Path, Callable[[np.ndarray], np.ndarray]],
+) -> None:
+    """Deblur one sequence of :func:`write_deblurred_root` into ``folder``."""
+    sequence, folder, method = job
+    folder.mkdir(parents=True, exist_ok=True)
+    blurred = np.stack([read_image(sequence.path(f, "color")) for f in sequence.frame_ids])
+    restored = method(blurred)
+    for index, frame in enumerate(sequence.frame_ids):
+        cv2.imwrite(str(folder / sequence.path(frame, "color").name), restored[index][..., ::-1])
+        for kind in ("pose", "sharp"):
+            source = sequence.path(frame, kind)
+            if source.is_file():
+                link_or_copy(source, folder / source.name)

@@ -80,8 +80,9 @@ class PoseTrainConfig:
     drawn) from all windows of ``window`` frames starting every ``stride`` frames, so a
     1000-frame scene and a 7000-frame one cost the same (8 epochs of 512 windows: 256 steps,
     about 10 s on 2 cores). ``windows_per_epoch=None`` makes an epoch one pass over every
-    window. The single-frame head (``model.head="none"``) draws ``window`` times as many single
-    frames per epoch, so both heads see the same number of frames.
+    window. The single-frame head (``model.head="none"``) takes ``window`` times as many single
+    frames per epoch and per batch, so both heads make the same steps on the same number of
+    frames.
 
     Raises
     ------

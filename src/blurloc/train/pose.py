@@ -132,12 +132,15 @@ def _train(
         stride=1 if single else config.stride, resize=config.resize, crop=config.crop,
         random_crop=True, kinds=(config.image,), cache=cache,
     )  # fmt: skip
+    # the single-frame head takes window x as many frames per step: the same frames and steps
+    frames_per_item = config.window if single else 1
+    batch = config.batch * frames_per_item
     per_epoch = len(dataset)
     if config.windows_per_epoch is not None:
-        per_epoch = config.windows_per_epoch * (config.window if single else 1)
+        per_epoch = config.windows_per_epoch * frames_per_item
     sampler = torch.utils.data.RandomSampler(dataset, num_samples=per_epoch)
-    loader = torch.utils.data.DataLoader(dataset, batch_size=config.batch, sampler=sampler,
-                                         drop_last=per_epoch > config.batch)  # fmt: skip
+    loader = torch.utils.data.DataLoader(dataset, batch_size=batch, sampler=sampler,
+                                         drop_last=per_epoch > batch)  # fmt: skip
     validation_config = replace(config, window=min(config.window, *map(len, validation)))
     model = PoseRegressor(config.model).to(device)
     with torch.no_grad():  # start from the mean training pose
