@@ -118,7 +118,8 @@ def plot_error_distributions(
     title: str = "",
 ) -> plt.Figure:
     """Fig. 10: per scene, the distribution of per-frame errors for each condition (violins,
-    median marked); optionally a second panel with the paper's printed values.
+    median marked); optionally a second panel with the paper's printed values as bars. Both
+    error axes start at zero (errors are non-negative, and bars are compared by height).
 
     Parameters
     ----------
@@ -158,6 +159,7 @@ def plot_error_distributions(
         parts["cmedians"].set_color("#222222")
         axis.plot([], [], "s", color=colour, alpha=0.6, label=condition)
     axis.set_xticks(np.arange(len(scenes)), scenes)
+    axis.set_ylim(bottom=0)
     axis.set_ylabel(ylabel)
     axis.set_title("measured on the stand-in (violins: per-frame distribution, bar: median)")
     axis.legend(ncol=len(conditions), fontsize=7, loc="upper left")
@@ -171,8 +173,7 @@ def plot_error_distributions(
                      edgecolor="#444444", linewidth=0.5)  # fmt: skip
         axis.set_xticks(np.arange(len(scenes)), scenes, rotation=60, fontsize=7)
         axis.set_title("paper (printed, 7-Scenes)")
-        axis.set_ylim(min(min(v.values()) for v in paper.values()) * 0.85,
-                      max(max(v.values()) for v in paper.values()) * 1.05)  # fmt: skip
+        axis.set_ylim(0, max(max(v.values()) for v in paper.values()) * 1.25)
         axis.legend(fontsize=6, loc="upper left")
     if title:
         figure.suptitle(title, y=1.02)
@@ -260,7 +261,7 @@ def plot_dose_response(table: list[dict], title: str) -> plt.Figure:
         orientation (degrees), each with its 95 % interval and a line at zero.
     """
     blur = np.array([row["frame_median_blur_px"] for row in table])
-    figure, axes = plt.subplots(1, 3, figsize=(11, 3.2))
+    figure, axes = plt.subplots(1, 3, figsize=(11, 3.6), layout="constrained")
     for key, label in (("blurred_position_m", "blurred"), ("deblurred_position_m", "deblurred")):
         axes[0].plot(blur, [row[key] for row in table], "o-", label=label,
                      color=METHOD_COLOURS.get(label))  # fmt: skip
@@ -278,6 +279,6 @@ def plot_dose_response(table: list[dict], title: str) -> plt.Figure:
         axis.axhline(0, color="black", linewidth=0.8)
         axis.set(xlabel="median blur in the frames (px)",
                  ylabel=f"deblurred − blurred ({unit})",
-                 title=f"{prefix.capitalize()}: paired difference, 95 % interval")  # fmt: skip
+                 title=f"{prefix.capitalize()}: paired difference\n(95 % interval)")  # fmt: skip
     figure.suptitle(title, fontsize=10)
     return figure

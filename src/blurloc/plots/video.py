@@ -132,11 +132,11 @@ def plot_attention(frame: np.ndarray, weights: np.ndarray, restored: np.ndarray)
     ----------
     Eq. 10 of the paper.
     """
-    figure, axes = plt.subplots(1, 3, figsize=(10, 2.8))
-    image_axis(axes[0], frame, "blurred B_t")
+    figure, axes = plt.subplots(1, 3, figsize=(10, 3.0), layout="constrained")
+    image_axis(axes[0], frame, "blurred $B_t$")
     shown = axes[1].imshow(weights, cmap="viridis", vmin=0, vmax=1)
-    axes[1].set_title("w_t (eq. 10): weight of the current frame")
+    axes[1].set_title("$w_t$ (eq. 10): weight of\nthe current frame's features")
     axes[1].axis("off")
     figure.colorbar(shown, ax=axes[1], fraction=0.04)
-    image_axis(axes[2], restored, "restored L_t")
+    image_axis(axes[2], restored, "restored $L_t$")
     return figure
