@@ -193,8 +193,9 @@ def test_paired_differences_and_dose_response_texts_do_not_overlap() -> None:
               "position_difference_m": 0.01, "position_ci_low": -0.02, "position_ci_high": 0.04,
               "orientation_difference_deg": -0.5, "orientation_ci_low": -1.0,
               "orientation_ci_high": 0.1} for b in (0.0, 1.5, 3.0, 6.0)]  # fmt: skip
-    figure = plots.plot_dose_response(table, "Pose error against blur strength, chess (LSTM, "
-                                             "blurred vs network-deblurred input)")
+    figure = plots.plot_dose_response(
+        table, "Pose error against blur strength, chess (LSTM, blurred vs network-deblurred input)"
+    )
     assert _overlapping_texts(figure) == []
     assert list(figure.axes[1].lines[-1].get_ydata()) == [0, 0]
 
