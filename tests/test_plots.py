@@ -205,3 +205,15 @@ def test_attention_texts_do_not_overlap() -> None:
     figure = plots.plot_attention(frame, np.full((8, 10), 0.5), frame)
     assert _overlapping_texts(figure) == []
     assert figure.axes[1].images[0].get_clim() == (0, 1)
+
+
+def test_video_network_diagram_uses_math_text_and_draws_the_recurrent_inputs() -> None:
+    figure = plots.plot_video_network({"blurred": [np.zeros((6, 8, 3))] * 2})
+    diagram = figure.axes[0]
+    texts = [text.get_text() for text in diagram.texts]
+    assert not any("~" in text for text in texts)  # tildes as math text, not ASCII
+    assert all("$" in text for text in texts if "_" in text)  # subscripts as math text
+    for state in ("$h_{t-1}$", r"$\tilde h_{t-1}$", r"$\tilde f_{t-1}$"):
+        assert state in texts  # eq. 8-10: the inputs from the previous step
+    assert _overlapping_texts(figure) == []
+    assert len(figure.axes) == 3 and figure.axes[2].images
