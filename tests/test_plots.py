@@ -217,3 +217,17 @@ def test_video_network_diagram_uses_math_text_and_draws_the_recurrent_inputs() -
         assert state in texts  # eq. 8-10: the inputs from the previous step
     assert _overlapping_texts(figure) == []
     assert len(figure.axes) == 3 and figure.axes[2].images
+
+
+def test_pipeline_draws_the_reference_apart_from_the_chain() -> None:
+    panels = [{"image": np.zeros((6, 8)), "title": name} for name in ("blurred", "Wiener")]
+    path = np.cumsum(np.ones((4, 3)), axis=0)
+    sharp = {"image": np.ones((6, 8)), "title": "sharp (truth)"}
+    figure = plots.plot_pipeline(panels, path, path + 0.1, reference=sharp)
+    chain = figure.axes[:3]
+    *_, pose, shown = figure.axes
+    assert pose.get_title().startswith("pose") and shown.get_title().startswith("reference")
+    assert np.array_equal(shown.images[0].get_array(), sharp["image"])
+    joined = [(arrow.axesA, arrow.axesB) for arrow in figure.artists]
+    assert joined == [(chain[0], chain[1]), (chain[1], chain[2])]  # no arrow to the reference
+    assert len(plots.plot_pipeline(panels, path, path).axes) == 3

@@ -13,21 +13,37 @@ from matplotlib.patches import ConnectionPatch
 from .style import METHOD_COLOURS, PAPER_COLOUR, styled
 
 
+def _image_panel(axis: plt.Axes, panel: dict) -> None:
+    axis.imshow(panel["image"], cmap=panel.get("cmap", "gray"), interpolation="nearest")
+    axis.set_title(panel["title"], fontsize=8)
+    axis.axis("off")
+
+
 @styled
 def plot_pipeline(
-    panels: list[dict], truth: np.ndarray, predicted: np.ndarray, title: str = ""
+    panels: list[dict],
+    truth: np.ndarray,
+    predicted: np.ndarray,
+    title: str = "",
+    reference: dict | None = None,
 ) -> plt.Figure:
-    """Fig. 2: one frame through the pipeline, panels in processing order, then the true and
-    predicted camera path seen from above (x against z).
+    """Fig. 2: one frame through the pipeline, panels in processing order joined by arrows,
+    then the true and predicted camera path seen from above (x against z); optionally a
+    reference image (e.g. the sharp ground truth) drawn apart, below the last image stage,
+    with no arrow, since it is no stage of the pipeline.
 
     Parameters
     ----------
     panels : list of dict
-        Each with ``image`` (RGB, gray or a 2-D map), ``title`` and optional ``cmap``.
+        The stages, each with ``image`` (RGB, gray or a 2-D map), ``title`` and optional
+        ``cmap``.
     truth, predicted : numpy.ndarray
         Camera positions (N, 3), metres.
     title : str
         Figure title (none when empty).
+    reference : dict, optional
+        A panel like those of ``panels`` shown for comparison only; its title is prefixed
+        with "reference (not a stage):".
 
     Returns
     -------
@@ -38,12 +54,17 @@ def plot_pipeline(
     Fig. 2 of the paper.
     """
     count = len(panels) + 1
-    figure, axes = plt.subplots(1, count, figsize=(2.3 * count, 2.6))
+    rows = 2 if reference else 1
+    figure = plt.figure(figsize=(2.3 * count, 2.6 * rows + 0.2 * (rows - 1)))
+    grid = figure.add_gridspec(rows, count)
+    axes = [figure.add_subplot(grid[0, column]) for column in range(count)]
     for axis, panel in zip(axes, panels, strict=False):
-        image = panel["image"]
-        axis.imshow(image, cmap=panel.get("cmap", "gray"), interpolation="nearest")
-        axis.set_title(panel["title"], fontsize=8)
-        axis.axis("off")
+        _image_panel(axis, panel)
+    if reference:
+        _image_panel(
+            figure.add_subplot(grid[1, len(panels) - 1]),
+            {**reference, "title": f"reference (not a stage):\n{reference['title']}"},
+        )
     axis = axes[-1]
     axis.plot(truth[:, 0], truth[:, 2], "k-", lw=1.4, label="true")
     axis.plot(predicted[:, 0], predicted[:, 2], "-", color="#d62728", lw=1, label="predicted")
