@@ -131,6 +131,12 @@ def test_pose_training_curves_and_predicted_paths() -> None:
     paths = {"lstm": truth + 0.1, "none": truth - 0.2}
     figure = plots.plot_predicted_paths(truth, paths, {"lstm": "a", "none": "b"})
     assert [axis.get_title() for axis in figure.axes] == ["a", "b"]
+    for axis in figure.axes:
+        assert (axis.get_xlabel(), axis.get_ylabel(), axis.get_zlabel()) == (
+            "x (m)",
+            "y (m)",
+            "z (m)",
+        )
     true_line, predicted = figure.axes[1].get_lines()
     assert np.allclose(true_line.get_data_3d(), truth.T)
     assert np.allclose(predicted.get_data_3d(), paths["none"].T)
@@ -145,6 +151,7 @@ def test_standin_figures_draw_the_frames_they_are_given(quick_root: Path) -> Non
     paths = camera_paths(quick_root)
     figure = plots.plot_trajectories(paths)
     assert len(figure.axes) == 2
+    assert [axis.get_zlabel() for axis in figure.axes] == ["z (m)", "z (m)"]
     first_path = figure.axes[0].lines[0].get_data_3d()[0]
     np.testing.assert_allclose(first_path, paths["chess"]["train"][0][:, 0])
     records = [{"split": "test", "scene": "chess", "sequence": s.number, "frame": f,

@@ -10,7 +10,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import ConnectionPatch
 
-from .style import METHOD_COLOURS, PAPER_COLOUR, styled
+from .style import METHOD_COLOURS, PAPER_COLOUR, label_metres_3d, styled
 
 
 def _image_panel(axis: plt.Axes, panel: dict) -> None:
@@ -237,7 +237,7 @@ def plot_pose_training_curves(histories: dict[str, dict[str, list[float]]]) -> p
 def plot_predicted_paths(
     truth: np.ndarray, predicted: dict[str, np.ndarray], titles: dict[str, str]
 ) -> plt.Figure:
-    """True and predicted camera paths in 3-D, one panel per prediction.
+    """True and predicted camera paths in 3-D (axes in metres), one panel per prediction.
 
     Parameters
     ----------
@@ -258,6 +258,7 @@ def plot_predicted_paths(
         axis.plot(*truth.T, "k-", lw=1.5, label="true")
         axis.plot(*positions.T, "-", color="#d62728", lw=1, label="predicted")
         axis.set_title(titles[label])
+        label_metres_3d(axis)
         axis.legend(fontsize=7)
     return figure
 
