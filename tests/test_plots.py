@@ -238,3 +238,15 @@ def test_pipeline_draws_the_reference_apart_from_the_chain() -> None:
     joined = [(arrow.axesA, arrow.axesB) for arrow in figure.artists]
     assert joined == [(chain[0], chain[1]), (chain[1], chain[2])]  # no arrow to the reference
     assert len(plots.plot_pipeline(panels, path, path).axes) == 3
+
+
+def test_predicted_views_show_each_scene_with_its_caption_and_a_wrapped_title() -> None:
+    views = {s: {"input": np.zeros((6, 8, 3)), "rendered": np.ones((6, 8, 3))} for s in "ab"}
+    title = "Fig. 5 · " + "a long title of the figure " * 4
+    figure = plots.plot_predicted_views(views, {"a": "0.31 m, 5.4°", "b": "x"}, title=title)
+    axes = np.array(figure.axes).reshape(2, 2)
+    assert [axis.get_title() for axis in axes[0]] == ["a", "b"]
+    assert axes[1, 0].get_xlabel() == "0.31 m, 5.4°"
+    assert figure.get_suptitle().replace("\n", " ") == title.strip()
+    assert max(len(line) for line in figure.get_suptitle().split("\n")) <= 32
+    assert _overlapping_texts(figure) == []

@@ -5,6 +5,7 @@ per-frame error distributions (Fig. 10)."""
 from __future__ import annotations
 
 import itertools
+import textwrap
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -98,9 +99,9 @@ def plot_predicted_views(
     views : dict
         ``{scene: {row label: image}}``, rows in the dicts' order, the same labels per scene.
     captions : dict
-        ``{scene: caption}``.
+        ``{scene: caption}``, under the column (e.g. the shown frame's own errors).
     title : str
-        Figure title (none when empty).
+        Figure title (none when empty), wrapped to the figure's width.
 
     Returns
     -------
@@ -112,8 +113,8 @@ def plot_predicted_views(
     """
     scenes = list(views)
     labels = list(views[scenes[0]])
-    figure, axes = plt.subplots(len(labels), len(scenes), squeeze=False,
-                                figsize=(1.75 * len(scenes), 1.45 * len(labels) + 0.4))  # fmt: skip
+    figure, axes = plt.subplots(len(labels), len(scenes), squeeze=False, layout="constrained",
+                                figsize=(1.75 * len(scenes), 1.45 * len(labels) + 0.6))  # fmt: skip
     for column, scene in enumerate(scenes):
         for row, label in enumerate(labels):
             axis = axes[row, column]
@@ -127,7 +128,7 @@ def plot_predicted_views(
                 axis.set_ylabel(label, fontsize=8)
         axes[-1, column].set_xlabel(captions.get(scene, ""), fontsize=7)
     if title:
-        figure.suptitle(title, y=1.02)
+        figure.suptitle(textwrap.fill(title, 16 * len(scenes)))
     return figure
 
 
