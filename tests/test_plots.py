@@ -86,6 +86,7 @@ def test_estimation_accuracy_plots_medians_per_sweep_value() -> None:
         )
     ]
     figure = plots.plot_estimation_accuracy(rows, noise_for_length=0.005)
+    assert _overlapping_texts(figure) == []
     against_length, against_noise = figure.axes
     median_angle = against_length.lines[0]
     assert list(median_angle.get_xdata()) == [7, 15, 27]
@@ -110,9 +111,10 @@ def test_per_scene_bars_and_error_distributions() -> None:
               "fire": {"blurred": np.ones(4), "rnn": np.ones(4)}}  # fmt: skip
     figure = plots.plot_error_distributions(errors, title="Fig. 10")
     assert len(figure.axes) == 1 and figure.get_suptitle() == "Fig. 10"
-    figure = plots.plot_error_distributions(errors, {"paper LSTM": paper})
+    figure = plots.plot_error_distributions(errors, {"paper LSTM": {"chess": 30.0, "fire": 29.5}})
     assert len(figure.axes) == 2
-    assert [bar.get_height() for bar in figure.axes[1].containers[0]] == [30.0, 29.0]
+    assert [axis.get_ylim()[0] for axis in figure.axes] == [0, 0]  # bars compared from zero
+    assert [bar.get_height() for bar in figure.axes[1].containers[0]] == [30.0, 29.5]
 
 
 def test_pose_training_curves_and_predicted_paths() -> None:
@@ -129,6 +131,12 @@ def test_pose_training_curves_and_predicted_paths() -> None:
     paths = {"lstm": truth + 0.1, "none": truth - 0.2}
     figure = plots.plot_predicted_paths(truth, paths, {"lstm": "a", "none": "b"})
     assert [axis.get_title() for axis in figure.axes] == ["a", "b"]
+    for axis in figure.axes:
+        assert (axis.get_xlabel(), axis.get_ylabel(), axis.get_zlabel()) == (
+            "x (m)",
+            "y (m)",
+            "z (m)",
+        )
     true_line, predicted = figure.axes[1].get_lines()
     assert np.allclose(true_line.get_data_3d(), truth.T)
     assert np.allclose(predicted.get_data_3d(), paths["none"].T)
@@ -143,6 +151,7 @@ def test_standin_figures_draw_the_frames_they_are_given(quick_root: Path) -> Non
     paths = camera_paths(quick_root)
     figure = plots.plot_trajectories(paths)
     assert len(figure.axes) == 2
+    assert [axis.get_zlabel() for axis in figure.axes] == ["z (m)", "z (m)"]
     first_path = figure.axes[0].lines[0].get_data_3d()[0]
     np.testing.assert_allclose(first_path, paths["chess"]["train"][0][:, 0])
     records = [{"split": "test", "scene": "chess", "sequence": s.number, "frame": f,
@@ -162,3 +171,82 @@ def test_save_table_writes_markdown_and_csv(tmp_path: Path) -> None:
     assert md.read_text() == ("Cap.\n\n| scene | psnr_db |\n|---|---|\n| chess | 28.5 |\n"
                               "| fire | 27.0 |\n")  # fmt: skip
     assert csv_path.read_text().splitlines() == ["scene,psnr_db", "chess,28.5", "fire,27.0"]
+
+
+def _overlapping_texts(figure: plt.Figure) -> list[tuple[str, str]]:
+    """Pairs of visible, non-empty titles, axis labels and figure texts whose drawn extents
+    overlap."""
+    renderer = figure.canvas.get_renderer()
+    figure.draw_without_rendering()
+    texts = list(figure.texts)  # the suptitle among them
+    for axis in figure.axes:
+        texts += [axis.title, axis._left_title, axis._right_title, axis.xaxis.label,
+                  axis.yaxis.label, *axis.texts]  # fmt: skip
+    shown = [t for t in texts if t.get_visible() and t.get_text().strip()]
+    boxes = [t.get_window_extent(renderer) for t in shown]
+    return [(shown[i].get_text(), shown[j].get_text())
+            for i in range(len(shown)) for j in range(i + 1, len(shown))
+            if boxes[i].overlaps(boxes[j])]  # fmt: skip
+
+
+def test_paired_differences_and_dose_response_texts_do_not_overlap() -> None:
+    rows = [{"comparison": c, "metric": m, "baseline_mean": 1.0, "mean_difference": d,
+             "ci_low": d - 0.1, "ci_high": d + 0.1, "interval": "95% bootstrap", "verdict": ""}
+            for c, d in (("rnn - blurred", -0.05), ("wiener - blurred", 0.2))
+            for m in ("position_m_median", "orientation_deg_median", "combined")]  # fmt: skip
+    figure = plots.plot_paired_differences(rows, "Pose error: paired differences")
+    assert _overlapping_texts(figure) == []
+    table = [{"frame_median_blur_px": b, "blurred_position_m": 0.3, "deblurred_position_m": 0.31,
+              "position_difference_m": 0.01, "position_ci_low": -0.02, "position_ci_high": 0.04,
+              "orientation_difference_deg": -0.5, "orientation_ci_low": -1.0,
+              "orientation_ci_high": 0.1} for b in (0.0, 1.5, 3.0, 6.0)]  # fmt: skip
+    figure = plots.plot_dose_response(
+        table, "Pose error against blur strength, chess (LSTM, blurred vs network-deblurred input)"
+    )
+    assert _overlapping_texts(figure) == []
+    assert list(figure.axes[1].lines[-1].get_ydata()) == [0, 0]
+
+
+def test_attention_texts_do_not_overlap() -> None:
+    frame = np.zeros((30, 40, 3))
+    figure = plots.plot_attention(frame, np.full((8, 10), 0.5), frame)
+    assert _overlapping_texts(figure) == []
+    assert figure.axes[1].images[0].get_clim() == (0, 1)
+
+
+def test_video_network_diagram_uses_math_text_and_draws_the_recurrent_inputs() -> None:
+    figure = plots.plot_video_network({"blurred": [np.zeros((6, 8, 3))] * 2})
+    diagram = figure.axes[0]
+    texts = [text.get_text() for text in diagram.texts]
+    assert not any("~" in text for text in texts)  # tildes as math text, not ASCII
+    assert all("$" in text for text in texts if "_" in text)  # subscripts as math text
+    for state in ("$h_{t-1}$", r"$\tilde h_{t-1}$", r"$\tilde f_{t-1}$"):
+        assert state in texts  # eq. 8-10: the inputs from the previous step
+    assert _overlapping_texts(figure) == []
+    assert len(figure.axes) == 3 and figure.axes[2].images
+
+
+def test_pipeline_draws_the_reference_apart_from_the_chain() -> None:
+    panels = [{"image": np.zeros((6, 8)), "title": name} for name in ("blurred", "Wiener")]
+    path = np.cumsum(np.ones((4, 3)), axis=0)
+    sharp = {"image": np.ones((6, 8)), "title": "sharp (truth)"}
+    figure = plots.plot_pipeline(panels, path, path + 0.1, reference=sharp)
+    chain = figure.axes[:3]
+    *_, pose, shown = figure.axes
+    assert pose.get_title().startswith("pose") and shown.get_title().startswith("reference")
+    assert np.array_equal(shown.images[0].get_array(), sharp["image"])
+    joined = [(arrow.axesA, arrow.axesB) for arrow in figure.artists]
+    assert joined == [(chain[0], chain[1]), (chain[1], chain[2])]  # no arrow to the reference
+    assert len(plots.plot_pipeline(panels, path, path).axes) == 3
+
+
+def test_predicted_views_show_each_scene_with_its_caption_and_a_wrapped_title() -> None:
+    views = {s: {"input": np.zeros((6, 8, 3)), "rendered": np.ones((6, 8, 3))} for s in "ab"}
+    title = "Fig. 5 · " + "a long title of the figure " * 4
+    figure = plots.plot_predicted_views(views, {"a": "0.31 m, 5.4°", "b": "x"}, title=title)
+    axes = np.array(figure.axes).reshape(2, 2)
+    assert [axis.get_title() for axis in axes[0]] == ["a", "b"]
+    assert axes[1, 0].get_xlabel() == "0.31 m, 5.4°"
+    assert figure.get_suptitle().replace("\n", " ") == title.strip()
+    assert max(len(line) for line in figure.get_suptitle().split("\n")) <= 32
+    assert _overlapping_texts(figure) == []

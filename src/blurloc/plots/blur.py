@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.patches import Patch
 
 from .style import image_axis, styled
 
@@ -105,7 +106,7 @@ def plot_estimation_accuracy(rows: list[dict], noise_for_length: float) -> plt.F
     -------
     matplotlib.figure.Figure
     """
-    figure, axes = plt.subplots(1, 2, figsize=(10, 3.2))
+    figure, axes = plt.subplots(1, 2, figsize=(10, 3.6), layout="constrained")
     sweeps = (("length_px", "true blur length L (px)"),
               ("noise_sigma", "noise σ (images in [0, 1])"))  # fmt: skip
     errors = (("angle_error_deg", "#1f77b4", "angle error (°)"),
@@ -125,11 +126,12 @@ def plot_estimation_accuracy(rows: list[dict], noise_for_length: float) -> plt.F
         axis.set_yscale("symlog", linthresh=1.0)
         axis.set_ylim(0, None)
         axis.set_ylabel("error (symmetric log scale)")
-        if column == 0:
-            axis.set_title(f"against L (σ = {noise_for_length:g}); band: 25-75th percentile")
-            axis.legend(fontsize=7)
-        else:
-            axis.set_title("against noise (all L)")
+        axis.set_title(f"against L (σ = {noise_for_length:g})" if column == 0
+                       else "against noise (all L)")  # fmt: skip
+    handles, labels = axes[0].get_legend_handles_labels()
+    handles.append(Patch(color="#777777", alpha=0.15))
+    labels.append("band: 25-75th percentile")
+    figure.legend(handles, labels, loc="outside lower center", ncol=5, fontsize=7)
     return figure
 
 

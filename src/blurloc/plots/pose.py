@@ -5,29 +5,46 @@ per-frame error distributions (Fig. 10)."""
 from __future__ import annotations
 
 import itertools
+import textwrap
 
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import ConnectionPatch
 
-from .style import METHOD_COLOURS, PAPER_COLOUR, styled
+from .style import METHOD_COLOURS, PAPER_COLOUR, label_metres_3d, styled
+
+
+def _image_panel(axis: plt.Axes, panel: dict) -> None:
+    axis.imshow(panel["image"], cmap=panel.get("cmap", "gray"), interpolation="nearest")
+    axis.set_title(panel["title"], fontsize=8)
+    axis.axis("off")
 
 
 @styled
 def plot_pipeline(
-    panels: list[dict], truth: np.ndarray, predicted: np.ndarray, title: str = ""
+    panels: list[dict],
+    truth: np.ndarray,
+    predicted: np.ndarray,
+    title: str = "",
+    reference: dict | None = None,
 ) -> plt.Figure:
-    """Fig. 2: one frame through the pipeline, panels in processing order, then the true and
-    predicted camera path seen from above (x against z).
+    """Fig. 2: one frame through the pipeline, panels in processing order joined by arrows,
+    then the true and predicted camera path seen from above (x against z); optionally a
+    reference image (e.g. the sharp ground truth) drawn apart, below the last image stage,
+    with no arrow, since it is no stage of the pipeline.
 
     Parameters
     ----------
     panels : list of dict
-        Each with ``image`` (RGB, gray or a 2-D map), ``title`` and optional ``cmap``.
+        The stages, each with ``image`` (RGB, gray or a 2-D map), ``title`` and optional
+        ``cmap``.
     truth, predicted : numpy.ndarray
         Camera positions (N, 3), metres.
     title : str
         Figure title (none when empty).
+    reference : dict, optional
+        A panel like those of ``panels`` shown for comparison only; its title is prefixed
+        with "reference (not a stage):".
 
     Returns
     -------
@@ -38,12 +55,17 @@ def plot_pipeline(
     Fig. 2 of the paper.
     """
     count = len(panels) + 1
-    figure, axes = plt.subplots(1, count, figsize=(2.3 * count, 2.6))
+    rows = 2 if reference else 1
+    figure = plt.figure(figsize=(2.3 * count, 2.6 * rows + 0.2 * (rows - 1)))
+    grid = figure.add_gridspec(rows, count)
+    axes = [figure.add_subplot(grid[0, column]) for column in range(count)]
     for axis, panel in zip(axes, panels, strict=False):
-        image = panel["image"]
-        axis.imshow(image, cmap=panel.get("cmap", "gray"), interpolation="nearest")
-        axis.set_title(panel["title"], fontsize=8)
-        axis.axis("off")
+        _image_panel(axis, panel)
+    if reference:
+        _image_panel(
+            figure.add_subplot(grid[1, len(panels) - 1]),
+            {**reference, "title": f"reference (not a stage):\n{reference['title']}"},
+        )
     axis = axes[-1]
     axis.plot(truth[:, 0], truth[:, 2], "k-", lw=1.4, label="true")
     axis.plot(predicted[:, 0], predicted[:, 2], "-", color="#d62728", lw=1, label="predicted")
@@ -77,9 +99,9 @@ def plot_predicted_views(
     views : dict
         ``{scene: {row label: image}}``, rows in the dicts' order, the same labels per scene.
     captions : dict
-        ``{scene: caption}``.
+        ``{scene: caption}``, under the column (e.g. the shown frame's own errors).
     title : str
-        Figure title (none when empty).
+        Figure title (none when empty), wrapped to the figure's width.
 
     Returns
     -------
@@ -91,8 +113,8 @@ def plot_predicted_views(
     """
     scenes = list(views)
     labels = list(views[scenes[0]])
-    figure, axes = plt.subplots(len(labels), len(scenes), squeeze=False,
-                                figsize=(1.75 * len(scenes), 1.45 * len(labels) + 0.4))  # fmt: skip
+    figure, axes = plt.subplots(len(labels), len(scenes), squeeze=False, layout="constrained",
+                                figsize=(1.75 * len(scenes), 1.45 * len(labels) + 0.6))  # fmt: skip
     for column, scene in enumerate(scenes):
         for row, label in enumerate(labels):
             axis = axes[row, column]
@@ -106,7 +128,7 @@ def plot_predicted_views(
                 axis.set_ylabel(label, fontsize=8)
         axes[-1, column].set_xlabel(captions.get(scene, ""), fontsize=7)
     if title:
-        figure.suptitle(title, y=1.02)
+        figure.suptitle(textwrap.fill(title, 16 * len(scenes)))
     return figure
 
 
@@ -118,7 +140,8 @@ def plot_error_distributions(
     title: str = "",
 ) -> plt.Figure:
     """Fig. 10: per scene, the distribution of per-frame errors for each condition (violins,
-    median marked); optionally a second panel with the paper's printed values.
+    median marked); optionally a second panel with the paper's printed values as bars. Both
+    error axes start at zero (errors are non-negative, and bars are compared by height).
 
     Parameters
     ----------
@@ -158,6 +181,7 @@ def plot_error_distributions(
         parts["cmedians"].set_color("#222222")
         axis.plot([], [], "s", color=colour, alpha=0.6, label=condition)
     axis.set_xticks(np.arange(len(scenes)), scenes)
+    axis.set_ylim(bottom=0)
     axis.set_ylabel(ylabel)
     axis.set_title("measured on the stand-in (violins: per-frame distribution, bar: median)")
     axis.legend(ncol=len(conditions), fontsize=7, loc="upper left")
@@ -171,8 +195,7 @@ def plot_error_distributions(
                      edgecolor="#444444", linewidth=0.5)  # fmt: skip
         axis.set_xticks(np.arange(len(scenes)), scenes, rotation=60, fontsize=7)
         axis.set_title("paper (printed, 7-Scenes)")
-        axis.set_ylim(min(min(v.values()) for v in paper.values()) * 0.85,
-                      max(max(v.values()) for v in paper.values()) * 1.05)  # fmt: skip
+        axis.set_ylim(0, max(max(v.values()) for v in paper.values()) * 1.25)
         axis.legend(fontsize=6, loc="upper left")
     if title:
         figure.suptitle(title, y=1.02)
@@ -215,7 +238,7 @@ def plot_pose_training_curves(histories: dict[str, dict[str, list[float]]]) -> p
 def plot_predicted_paths(
     truth: np.ndarray, predicted: dict[str, np.ndarray], titles: dict[str, str]
 ) -> plt.Figure:
-    """True and predicted camera paths in 3-D, one panel per prediction.
+    """True and predicted camera paths in 3-D (axes in metres), one panel per prediction.
 
     Parameters
     ----------
@@ -236,6 +259,7 @@ def plot_predicted_paths(
         axis.plot(*truth.T, "k-", lw=1.5, label="true")
         axis.plot(*positions.T, "-", color="#d62728", lw=1, label="predicted")
         axis.set_title(titles[label])
+        label_metres_3d(axis)
         axis.legend(fontsize=7)
     return figure
 
@@ -260,7 +284,7 @@ def plot_dose_response(table: list[dict], title: str) -> plt.Figure:
         orientation (degrees), each with its 95 % interval and a line at zero.
     """
     blur = np.array([row["frame_median_blur_px"] for row in table])
-    figure, axes = plt.subplots(1, 3, figsize=(11, 3.2))
+    figure, axes = plt.subplots(1, 3, figsize=(11, 3.6), layout="constrained")
     for key, label in (("blurred_position_m", "blurred"), ("deblurred_position_m", "deblurred")):
         axes[0].plot(blur, [row[key] for row in table], "o-", label=label,
                      color=METHOD_COLOURS.get(label))  # fmt: skip
@@ -278,6 +302,6 @@ def plot_dose_response(table: list[dict], title: str) -> plt.Figure:
         axis.axhline(0, color="black", linewidth=0.8)
         axis.set(xlabel="median blur in the frames (px)",
                  ylabel=f"deblurred − blurred ({unit})",
-                 title=f"{prefix.capitalize()}: paired difference, 95 % interval")  # fmt: skip
+                 title=f"{prefix.capitalize()}: paired difference\n(95 % interval)")  # fmt: skip
     figure.suptitle(title, fontsize=10)
     return figure

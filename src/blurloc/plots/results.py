@@ -142,9 +142,9 @@ def plot_paired_differences(rows: list[dict], title: str) -> plt.Figure:
     """
     metrics = list(dict.fromkeys(r["metric"] for r in rows))
     comparisons = list(dict.fromkeys(r["comparison"] for r in rows))
-    figure, axes = plt.subplots(1, len(metrics), figsize=(3.4 * len(metrics), 0.5
+    figure, axes = plt.subplots(1, len(metrics), figsize=(3.4 * len(metrics), 1.3
                                                           + 0.45 * len(comparisons)),
-                                sharey=True, squeeze=False)  # fmt: skip
+                                sharey=True, squeeze=False, layout="constrained")  # fmt: skip
     for axis, metric in zip(axes[0], metrics, strict=True):
         for y, comparison in enumerate(comparisons):
             row = next((r for r in rows if r["metric"] == metric
@@ -164,7 +164,7 @@ def plot_paired_differences(rows: list[dict], title: str) -> plt.Figure:
     axes[0][0].set_yticks(range(len(comparisons)), comparisons)
     axes[0][0].invert_yaxis()
     interval = rows[0]["interval"] if rows else ""
-    figure.suptitle(f"{title} (mean paired difference, {interval} interval)", fontsize=10)
+    figure.suptitle(f"{title}\n(mean paired difference, {interval} interval)", fontsize=10)
     return figure
 
 

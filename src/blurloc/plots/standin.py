@@ -9,7 +9,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data.synth import path_lengths
-from .style import SPLIT_COLOURS, styled
+from .style import SPLIT_COLOURS, label_metres_3d, styled
 
 
 @styled
@@ -110,9 +110,7 @@ def plot_trajectories(paths: dict[str, dict[str, list[np.ndarray]]]) -> plt.Figu
                 axis.plot(*xyz.T, color=SPLIT_COLOURS[split], lw=1.0, label=label)
                 axis.scatter(*xyz[0], color=SPLIT_COLOURS[split], s=6)
         axis.set_title(scene)
-        axis.set_xlabel("x (m)", labelpad=-6)
-        axis.set_ylabel("y (m)", labelpad=-6)
-        axis.set_zlabel("z (m)", labelpad=-6)
+        label_metres_3d(axis, labelpad=-6)
         axis.tick_params(labelsize=6, pad=-2)
         if index == 0:
             axis.legend(loc="upper left", fontsize=7)

@@ -119,3 +119,18 @@ def image_axis(axis: plt.Axes, image: np.ndarray, title: str, cmap: str = "gray"
     axis.imshow(np.clip(image, 0, 1) if image.dtype != np.uint8 else image, cmap=cmap)
     axis.set_title(title)
     axis.axis("off")
+
+
+def label_metres_3d(axis: plt.Axes, labelpad: float = 0.0) -> None:
+    """Label the x, y and z axes of a 3-D axis in metres.
+
+    Parameters
+    ----------
+    axis : mpl_toolkits.mplot3d.axes3d.Axes3D
+        A 3-D axis (``projection="3d"``).
+    labelpad : float
+        Space between the ticks and the labels, points (negative in small panels).
+    """
+    axis.set_xlabel("x (m)", labelpad=labelpad)
+    axis.set_ylabel("y (m)", labelpad=labelpad)
+    axis.set_zlabel("z (m)", labelpad=labelpad)

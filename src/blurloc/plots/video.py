@@ -9,23 +9,36 @@ import numpy as np
 from .style import image_axis, styled
 
 
-def _box(axis: plt.Axes, x: float, y: float, text: str, colour: str, width: float = 1.5) -> None:
+def _box(
+    axis: plt.Axes,
+    x: float,
+    y: float,
+    text: str,
+    colour: str,
+    width: float = 1.5,
+    linestyle: str = "-",
+) -> None:
     axis.add_patch(plt.Rectangle((x - width / 2, y - 0.32), width, 0.64, facecolor=colour,
-                                 edgecolor="#333333", lw=0.8))  # fmt: skip
+                                 edgecolor="#333333", lw=0.8, ls=linestyle))  # fmt: skip
     axis.text(x, y, text, ha="center", va="center", fontsize=8)
 
 
-def _arrow(axis: plt.Axes, start: tuple, end: tuple, text: str = "") -> None:
+def _arrow(
+    axis: plt.Axes, start: tuple, end: tuple, text: str = "", at: tuple | None = None
+) -> None:
+    """An arrow from ``start`` to ``end``, its label at ``at`` (default: above the middle)."""
     axis.annotate("", end, start, arrowprops={"arrowstyle": "->", "lw": 0.9, "color": "#333333"})
     if text:
-        axis.text((start[0] + end[0]) / 2, (start[1] + end[1]) / 2 + 0.12, text, fontsize=7,
-                  ha="center", color="#555555")  # fmt: skip
+        x, y = at or ((start[0] + end[0]) / 2, (start[1] + end[1]) / 2 + 0.12)
+        axis.text(x, y, text, fontsize=8, ha="center", va="bottom", color="#555555")
 
 
 @styled
 def plot_video_network(strip: dict[str, list[np.ndarray]] | None = None) -> plt.Figure:
-    """Fig. 4: the recurrent deblurring network of eq. 8-11 as built in
-    :mod:`blurloc.models.video_deblur`, optionally above a test sequence, one row per method.
+    """Fig. 4: one time step t of the recurrent deblurring network of eq. 8-11 as built in
+    :mod:`blurloc.models.video_deblur`, with the recurrent inputs of step t - 1 (the hidden
+    state :math:`h_{t-1}`, the auxiliary state :math:`\tilde h_{t-1}` and the blended features
+    :math:`\tilde f_{t-1}`, dashed boxes), optionally above a test sequence, one row per method.
 
     Parameters
     ----------
@@ -42,33 +55,45 @@ def plot_video_network(strip: dict[str, list[np.ndarray]] | None = None) -> plt.
     """
     rows = len(strip) if strip else 0
     columns = len(next(iter(strip.values()))) if strip else 1
-    figure = plt.figure(figsize=(11, 3.4 + 1.9 * rows))
-    grid = figure.add_gridspec(1 + rows, columns, height_ratios=[3.4] + [1.9] * rows)
+    figure = plt.figure(figsize=(11, 3.9 + 1.9 * rows))
+    grid = figure.add_gridspec(1 + rows, columns, height_ratios=[3.9] + [1.9] * rows)
     axis = figure.add_subplot(grid[0, :])
     axis.set_xlim(0, 14)
-    axis.set_ylim(0, 4.2)
+    axis.set_ylim(0, 4.9)
     axis.axis("off")
-    _box(axis, 1.0, 2.1, "B_t\nblurred", "#eeeeee", 1.2)
-    _box(axis, 3.0, 2.1, "encoder\n(stride 4)", "#dde8f5")
-    _box(axis, 5.3, 3.2, "Recurrence (eq. 8)\n→ f_t, h_t", "#c6dbef", 2.1)
-    _box(axis, 5.3, 1.0, "h_{t-1}", "#f0f0f0", 1.1)
-    _box(axis, 8.0, 3.2, "Recurrence~ (eq. 9)\n→ h~_t", "#fdd0a2", 2.1)
-    _box(axis, 8.0, 1.0, "blending (eq. 10)\nf~_t = w~f~_{t-1} + w f_t", "#c7e9c0", 2.6)
-    _box(axis, 10.9, 2.1, "Rec (eq. 11)\npixel shuffle ×4", "#dadaeb", 1.9)
-    _box(axis, 13.1, 2.1, "L_t = B_t +\nresidual", "#eeeeee", 1.5)
-    _arrow(axis, (1.6, 2.1), (2.25, 2.1))
-    _arrow(axis, (3.75, 2.3), (4.25, 3.0), "features")
-    _arrow(axis, (5.3, 1.32), (5.3, 2.88), "h_{t-1}")
-    _arrow(axis, (6.35, 3.2), (6.95, 3.2), "h_t")
-    _arrow(axis, (6.0, 2.88), (7.2, 1.32), "f_t")
-    _arrow(axis, (9.05, 3.2), (10.2, 2.4), "h~_t")
-    _arrow(axis, (9.3, 1.0), (10.2, 1.8), "f~_t")
-    _arrow(axis, (6.35, 3.0), (10.0, 2.1), "f_t, h_t")
-    _arrow(axis, (11.85, 2.1), (12.35, 2.1))
-    _arrow(axis, (1.0, 1.78), (12.6, 1.78), "")
-    axis.text(6.8, 1.6, "full-resolution features of B_t and the skip to the output", fontsize=7,
-              ha="center", color="#555555")  # fmt: skip
-    axis.set_title("Fig. 4 · Recurrent video deblurring (this package's network, eq. 8-11)")
+    previous = "#f7f7f7"
+    _box(axis, 1.0, 2.2, "$B_t$\nblurred", "#eeeeee", 1.2)
+    _box(axis, 3.0, 2.2, "encoder\n(stride 4)", "#dde8f5")
+    _box(axis, 5.4, 3.3, "Recurrence (eq. 8)\n→ $f_t$, $h_t$", "#c6dbef", 2.1)
+    _box(axis, 8.4, 3.3, "auxiliary recurrence\n(eq. 9) → " r"$\tilde h_t$", "#fdd0a2", 2.1)
+    _box(axis, 8.4, 1.5, "blending (eq. 10)\n"
+         r"$\tilde f_t = \tilde w_{t-1} \tilde f_{t-1} + w_t f_t$", "#c7e9c0", 2.7)  # fmt: skip
+    _box(axis, 11.3, 2.2, "Rec (eq. 11)\npixel shuffle ×4", "#dadaeb", 1.9)
+    _box(axis, 13.2, 2.2, "$L_t = B_t$ +\nresidual", "#eeeeee", 1.3)
+    _box(axis, 5.4, 4.45, "$h_{t-1}$", previous, 1.1, "--")
+    _box(axis, 8.4, 4.45, r"$\tilde h_{t-1}$", previous, 1.1, "--")
+    _box(axis, 5.4, 1.5, r"$\tilde f_{t-1}$", previous, 1.1, "--")
+    axis.text(3.0, 4.45, "from step $t-1$\n(dashed)", fontsize=7, ha="center", va="center",
+              color="#555555")  # fmt: skip
+    axis.text(12.2, 4.45, r"kept for step $t+1$: $h_t$, $\tilde h_t$, $\tilde f_t$", fontsize=7,
+              ha="center", va="center", color="#555555")  # fmt: skip
+    _arrow(axis, (1.6, 2.2), (2.25, 2.2))
+    _arrow(axis, (3.75, 2.45), (4.35, 3.0), "features", at=(3.55, 2.8))
+    _arrow(axis, (5.4, 4.13), (5.4, 3.62))
+    _arrow(axis, (8.4, 4.13), (8.4, 3.62))
+    _arrow(axis, (6.45, 3.3), (7.35, 3.3), "$h_t$")
+    _arrow(axis, (5.95, 1.5), (7.05, 1.5))
+    _arrow(axis, (6.1, 2.98), (7.4, 1.82), "$f_t$", at=(6.55, 2.15))
+    _arrow(axis, (9.45, 3.3), (10.9, 2.52), r"$\tilde h_t$", at=(10.45, 2.95))
+    _arrow(axis, (9.75, 1.5), (10.9, 1.88), r"$\tilde f_t$", at=(10.45, 1.35))
+    _arrow(axis, (6.45, 3.05), (10.35, 2.3), "$f_t$, $h_t$", at=(9.75, 2.5))
+    _arrow(axis, (12.25, 2.2), (12.55, 2.2))
+    axis.plot([1.0, 1.0, 13.2], [1.88, 0.35, 0.35], color="#333333", lw=0.9)
+    _arrow(axis, (13.2, 0.35), (13.2, 1.88))
+    axis.text(7.1, 0.45, "full-resolution features of $B_t$ and the skip to the output",
+              fontsize=7, ha="center", va="bottom", color="#555555")  # fmt: skip
+    axis.set_title("Fig. 4 · Recurrent video deblurring, one time step "
+                   "(this package's network, eq. 8-11)")  # fmt: skip
     for row, (label, frames) in enumerate((strip or {}).items()):
         for column, frame in enumerate(frames):
             panel = figure.add_subplot(grid[1 + row, column])
@@ -132,11 +157,11 @@ def plot_attention(frame: np.ndarray, weights: np.ndarray, restored: np.ndarray)
     ----------
     Eq. 10 of the paper.
     """
-    figure, axes = plt.subplots(1, 3, figsize=(10, 2.8))
-    image_axis(axes[0], frame, "blurred B_t")
+    figure, axes = plt.subplots(1, 3, figsize=(10, 3.0), layout="constrained")
+    image_axis(axes[0], frame, "blurred $B_t$")
     shown = axes[1].imshow(weights, cmap="viridis", vmin=0, vmax=1)
-    axes[1].set_title("w_t (eq. 10): weight of the current frame")
+    axes[1].set_title("$w_t$ (eq. 10): weight of\nthe current frame's features")
     axes[1].axis("off")
     figure.colorbar(shown, ax=axes[1], fraction=0.04)
-    image_axis(axes[2], restored, "restored L_t")
+    image_axis(axes[2], restored, "restored $L_t$")
     return figure
