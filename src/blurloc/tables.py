@@ -49,3 +49,32 @@ def save_table(
     lines += ["| " + " | ".join(str(row.get(c, "")) for c in columns) + " |" for row in rows]
     md_path.write_text("\n".join(lines) + "\n")
     return [md_path, csv_path]
+
+
+def save_findings(
+    findings: dict[str, object], folder: str | os.PathLike, name: str, caption: str = ""
+) -> list[Path]:
+    """Save the numbers a notebook's conclusions quote, one row per quantity.
+
+    The conclusions are Markdown written by a person; every decimal number in them must be one
+    of the numbers of the notebook's tables (``tests/test_conclusions.py`` checks it), and this
+    table holds the ones no other table has.
+
+    Parameters
+    ----------
+    findings : dict
+        ``{quantity: value}``.
+    folder : str or os.PathLike
+        Output folder (created).
+    name : str
+        File stem.
+    caption : str
+        Line written above the Markdown table.
+
+    Returns
+    -------
+    list of pathlib.Path
+        ``<folder>/<name>.md`` and ``<folder>/<name>.csv``.
+    """
+    rows = [{"quantity": quantity, "value": value} for quantity, value in findings.items()]
+    return save_table(rows, folder, name, caption=caption)
