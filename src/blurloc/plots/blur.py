@@ -196,7 +196,8 @@ def plot_standin_estimation(rows: list[dict], angle_from_px: float = 4.0) -> plt
     axes[0].set(xlabel="recorded extent (px, blur.csv)", ylabel="estimated length L (px)",
                 title="Blur length")  # fmt: skip
     axes[1].scatter(extent, [r["angle_error_deg"] for r in frames], s=8, alpha=0.6)
-    axes[1].axvline(angle_from_px, color="#888888", ls=":", label=f"{angle_from_px:g} px")
+    axes[1].axvline(angle_from_px, color="#888888", ls=":",
+                    label=f"scored from {angle_from_px:g} px")  # fmt: skip
     axes[1].set(xlabel="recorded extent (px, blur.csv)", ylabel="angle error (°)",
                 title="Blur direction")  # fmt: skip
     for axis in axes:
