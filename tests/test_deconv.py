@@ -8,7 +8,9 @@ import skimage.data
 from skimage.metrics import peak_signal_noise_ratio, structural_similarity
 
 from blurloc.blur import blur_image, motion_kernel, to_gray, trajectory_kernel
-from blurloc.deconv import estimate_noise_sigma, inverse_filter, wiener_deconvolve
+from blurloc.deconv import estimate_noise_sigma, inverse_filter, kernel_to_otf, wiener_deconvolve
+from blurloc.experiments.deblurring import boundary_comparison, filter_comparison, nsr_curve
+from blurloc.experiments.wiener_oracles import frame_gains, gain_by_extent
 from blurloc.metrics import psnr, ssim
 
 
@@ -158,3 +160,58 @@ def test_per_scene_table_means_scenes_and_sets_paper_values_beside() -> None:
     assert table[0]["frames"] == 2 and table[2]["frames"] == 3
     assert table[0]["paper_psnr_db"] == paper_fig6_7("chess")["paper_psnr_db"] is not None
     assert paper_fig6_7("no such scene") == {"paper_psnr_db": None, "paper_ssim": None}
+
+
+def test_kernel_to_otf_is_the_centred_kernel_padded_and_transformed() -> None:
+    kernel, shape = motion_kernel(15, 30), (64, 80)
+    padded = np.pad(kernel, ((0, shape[0] - kernel.shape[0]), (0, shape[1] - kernel.shape[1])))
+    centred = np.roll(padded, (-(kernel.shape[0] // 2), -(kernel.shape[1] // 2)), axis=(0, 1))
+    np.testing.assert_allclose(kernel_to_otf(kernel, shape), np.fft.rfft2(centred), atol=1e-5)
+
+
+def test_filter_comparison_restores_without_noise_and_orders_its_rows() -> None:
+    image = to_gray(skimage.data.camera())[100:356, 100:356].astype(np.float64)
+    rows = filter_comparison(image, well_posed_kernel(), [0.0, 0.01], np.random.default_rng(0))
+    assert [(r["noise_sigma"], r["method"]) for r in rows] == [
+        (s, m) for s in (0.0, 0.01)
+        for m in ("blurred", "inverse filter (eq. 3)", "Wiener (eq. 4)")]  # fmt: skip
+    clean = {r["method"]: r["psnr_db"] for r in rows if r["noise_sigma"] == 0}
+    assert clean["inverse filter (eq. 3)"] >= 40 and clean["Wiener (eq. 4)"] >= 40
+    noisy = filter_comparison(image, motion_kernel(11, 30), [0.01], np.random.default_rng(1))
+    noisy = {r["method"]: r["psnr_db"] for r in noisy}  # a kernel with spectral zeros
+    assert noisy["Wiener (eq. 4)"] > max(noisy["inverse filter (eq. 3)"] + 5, noisy["blurred"])
+    assert all(r["image"].shape == image.shape for r in rows)
+
+
+def test_nsr_curve_peaks_inside_the_range_under_noise() -> None:
+    image = to_gray(skimage.data.camera())[128:384, 128:384].astype(np.float64)
+    kernel = motion_kernel(15, 30)
+    blurred = blur_image(image, kernel, 0.01, rng=np.random.default_rng(1))
+    curve = nsr_curve(image, blurred, kernel, np.logspace(-4, 0, 9))
+    best = int(np.argmax(curve["psnr_db"]))
+    assert 0 < best < len(curve["nsr"]) - 1
+    assert curve["psnr_db"][best] > curve["blurred_psnr_db"] + 1
+    assert 1e-4 < curve["estimated_nsr"] < 1
+
+
+def test_mirror_padding_beats_the_periodic_dft() -> None:
+    image = to_gray(skimage.data.camera())[128:384, 128:384].astype(np.float64)
+    kernel = motion_kernel(15, 30)
+    blurred = blur_image(image, kernel, 0.002, rng=np.random.default_rng(2))
+    scores = {r["method"]: r["psnr_db"] for r in boundary_comparison(image, blurred, kernel)}
+    assert scores["Wiener, mirror padding"] > scores["Wiener, periodic DFT"] + 1
+
+
+def test_oracle_gain_split_by_extent() -> None:
+    def row(frame: int, variant: str, extent: float, value: float) -> dict:
+        return {"scene": "chess", "sequence": 1 + frame % 2, "frame": frame // 2,
+                "variant": variant, "extent_px": extent, "psnr_db": value}  # fmt: skip
+
+    extents, blurred, restored = [1.0, 3.0, 4.0, 9.0], [20.0, 22.0, 25.0, 18.0], [19, 23, 27, 22]
+    rows = [row(i, "blurred", e, b) for i, (e, b) in enumerate(zip(extents, blurred, strict=True))]
+    rows += [row(i, "path_linear_best", e, r)
+             for i, (e, r) in enumerate(zip(extents, restored, strict=True))]  # fmt: skip
+    extent, gain = frame_gains(rows, "path_linear_best")
+    np.testing.assert_allclose(gain, [-1, 1, 2, 4])
+    np.testing.assert_allclose(extent, extents)
+    assert gain_by_extent(rows, "path_linear_best", 4.0) == (3.0, 0.0)

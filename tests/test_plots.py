@@ -250,3 +250,55 @@ def test_predicted_views_show_each_scene_with_its_caption_and_a_wrapped_title() 
     assert figure.get_suptitle().replace("\n", " ") == title.strip()
     assert max(len(line) for line in figure.get_suptitle().split("\n")) <= 32
     assert _overlapping_texts(figure) == []
+
+
+def _labelled(axis: plt.Axes) -> bool:
+    return bool(axis.get_xlabel() and axis.get_ylabel() and axis.get_title())
+
+
+def test_restorations_draw_one_panel_per_method_and_noise_level() -> None:
+    image = np.linspace(0, 1, 64 * 64).reshape(64, 64)
+    methods = ("blurred", "inverse", "Wiener")
+    rows = [{"noise_sigma": s, "method": m, "image": image, "psnr_db": 30.0 + i}
+            for s in (0.0, 0.01) for i, m in enumerate(methods)]  # fmt: skip
+    figure = plots.plot_restorations(rows, "Restorations of a ramp")
+    assert len(figure.axes) == 6
+    assert figure.axes[5].get_title() == "Wiener\nσ = 0.01: 32.0 dB"
+    assert figure.get_suptitle() == "Restorations of a ramp"
+    without_noise = plots.plot_restorations([{k: v for k, v in r.items() if k != "noise_sigma"}
+                                             for r in rows[:3]], "t")  # fmt: skip
+    assert len(without_noise.axes) == 3 and without_noise.axes[0].get_title() == "blurred\n30.0 dB"
+    assert not _overlapping_texts(figure)
+
+
+def test_nsr_curve_marks_the_estimate_and_the_blurred_input() -> None:
+    curve = {"nsr": np.logspace(-4, 0, 5), "psnr_db": np.array([20, 24, 26, 23, 21.0]),
+             "estimated_nsr": 0.02, "blurred_psnr_db": 22.5}  # fmt: skip
+    figure = plots.plot_nsr_curve(curve, "Wiener on a test image")
+    (axis,) = figure.axes
+    assert _labelled(axis) and axis.get_xscale() == "log"
+    np.testing.assert_allclose(axis.lines[0].get_ydata(), curve["psnr_db"])
+    assert axis.lines[1].get_xdata()[0] == 0.02 and axis.lines[2].get_ydata()[0] == 22.5
+    assert not _overlapping_texts(figure)
+
+
+def test_oracle_gains_draw_bars_and_frame_scatters() -> None:
+    summary = [{"variant": v, "gain_db": g, "gain_ci95_db": 0.3, "frames": 4}
+               for v, g in (("blurred", 0.0), ("blind", -1.2), ("path_linear_best", 0.8))]
+    points = {"blind": (np.array([1.0, 5.0]), np.array([-2.0, 0.5])),
+              "path_linear_best": (np.array([1.0, 5.0]), np.array([-0.5, 2.0]))}  # fmt: skip
+    figure = plots.plot_oracle_gains(summary, points)
+    assert len(figure.axes) == 2 and all(_labelled(a) for a in figure.axes)
+    assert [p.get_width() for p in figure.axes[0].patches] == [0.0, -1.2, 0.8]
+    assert len(figure.axes[1].collections) == 2
+    assert not _overlapping_texts(figure)
+
+
+def test_standin_estimation_draws_the_camera_frames_only() -> None:
+    rows = [{"kind": k, "extent_px": e, "estimated_length_px": e + 0.5, "angle_error_deg": 3.0}
+            for k, e in (("color", 2.0), ("color", 6.0), ("sharp", 0.0))]  # fmt: skip
+    figure = plots.plot_standin_estimation(rows)
+    assert len(figure.axes) == 2 and all(_labelled(a) for a in figure.axes)
+    assert all(len(a.collections[0].get_offsets()) == 2 for a in figure.axes)
+    assert "2 stand-in frames" in figure.get_suptitle()
+    assert not _overlapping_texts(figure)

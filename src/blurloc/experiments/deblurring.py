@@ -1,4 +1,5 @@
-"""Single-image deblurring methods compared on a stand-in split (notebook 02): the methods, their
+"""Single-image deblurring methods compared (notebook 02): the inverse filter against Wiener, the
+NSR trade-off and the boundaries on one photograph; on a stand-in split, the methods, their
 per-frame PSNR/SSIM, the balance of scikit-image's Wiener filter and per-scene means."""
 
 from __future__ import annotations
@@ -10,12 +11,169 @@ import numpy as np
 from skimage.restoration import richardson_lucy, unsupervised_wiener, wiener
 from tqdm.auto import tqdm
 
+from ..blur import blur_image
 from ..data.samples import split_frames
 from ..data.sevenscenes import read_image
-from ..deconv import blind_kernel, wiener_deconvolve
+from ..deconv import (
+    blind_kernel,
+    estimate_nsr,
+    inverse_filter,
+    kernel_to_otf,
+    wiener_deconvolve,
+)
 from ..images import as_float_image
 from ..metrics import psnr, ssim
 from ..paper import paper_values
+
+
+def _interior_psnr(sharp: np.ndarray, image: np.ndarray, border: int) -> float:
+    """PSNR (eq. 6, data range 1) of ``image`` clipped to [0, 1] against ``sharp``, leaving out
+    ``border`` pixels on each side (0: the whole image)."""
+    inside = (slice(border, sharp.shape[0] - border), slice(border, sharp.shape[1] - border))
+    return psnr(sharp[inside], np.clip(image, 0.0, 1.0)[inside], 1.0)
+
+
+def filter_comparison(
+    sharp: np.ndarray,
+    kernel: np.ndarray,
+    noise_levels: Iterable[float],
+    rng: np.random.Generator,
+    border: int = 24,
+) -> list[dict]:
+    """Blur ``sharp`` at each noise level and restore it with the inverse filter and Wiener.
+
+    Without noise Wiener gets NSR = 1e-6 (almost the inverse filter); with noise the NSR is
+    estimated from the image (:func:`~blurloc.deconv.estimate_nsr`).
+
+    Parameters
+    ----------
+    sharp : numpy.ndarray
+        Gray image (H, W), float in [0, 1].
+    kernel : numpy.ndarray
+        Blur kernel (k, k), summing to 1.
+    noise_levels : iterable of float
+        Noise sigmas (images in [0, 1]) of eq. 1.
+    rng : numpy.random.Generator
+        Source of the noise.
+    border : int
+        Pixels left out on each side when scoring (the interior, away from the image border).
+
+    Returns
+    -------
+    list of dict
+        Per noise level, in order ``blurred``, ``inverse filter (eq. 3)``, ``Wiener (eq. 4)``:
+        noise_sigma, method, image (H, W) float, unclipped, psnr_db (dB over the interior,
+        rounded to 0.01).
+
+    References
+    ----------
+    Eq. 1 (blur model), eq. 3 (inverse filter), eq. 4 (Wiener) and eq. 5-6 (PSNR) of the paper.
+    """
+    rows = []
+    for sigma in noise_levels:
+        blurred = blur_image(sharp, kernel, sigma, rng=rng)
+        images = {"blurred": blurred,
+                  "inverse filter (eq. 3)": inverse_filter(blurred, kernel),
+                  "Wiener (eq. 4)": wiener_deconvolve(blurred, kernel,
+                                                      1e-6 if sigma == 0 else None)}  # fmt: skip
+        rows += [{"noise_sigma": sigma, "method": name, "image": image,
+                  "psnr_db": round(_interior_psnr(sharp, image, border), 2)}
+                 for name, image in images.items()]  # fmt: skip
+    return rows
+
+
+def nsr_curve(
+    sharp: np.ndarray,
+    blurred: np.ndarray,
+    kernel: np.ndarray,
+    nsr_values: np.ndarray,
+    border: int = 24,
+) -> dict:
+    """PSNR of the Wiener restoration against a constant NSR, beside the estimated NSR.
+
+    Parameters
+    ----------
+    sharp, blurred : numpy.ndarray
+        Gray images (H, W), float in [0, 1]: the truth and its blurred, noisy copy.
+    kernel : numpy.ndarray
+        The true blur kernel (k, k).
+    nsr_values : numpy.ndarray
+        NSR = 1/SNR values (M,), > 0.
+    border : int
+        Pixels left out on each side when scoring.
+
+    Returns
+    -------
+    dict
+        ``nsr`` (M,), ``psnr_db`` (M,) dB of each restoration clipped to [0, 1],
+        ``estimated_nsr`` (:func:`~blurloc.deconv.estimate_nsr` of ``blurred``) and
+        ``blurred_psnr_db`` (dB of the input), all over the interior.
+
+    References
+    ----------
+    Eq. 4 (Wiener) and eq. 5-6 (PSNR) of the paper.
+    """
+    scores = [_interior_psnr(sharp, wiener_deconvolve(blurred, kernel, n), border)
+              for n in nsr_values]  # fmt: skip
+    return {"nsr": np.asarray(nsr_values, float), "psnr_db": np.array(scores),
+            "estimated_nsr": estimate_nsr(blurred),
+            "blurred_psnr_db": _interior_psnr(sharp, blurred, border)}  # fmt: skip
+
+
+def periodic_wiener(image: np.ndarray, kernel: np.ndarray, nsr: float) -> np.ndarray:
+    """Wiener deconvolution (eq. 4) by a bare DFT of the image, which treats it as periodic
+    (no mirror padding, unlike :func:`~blurloc.deconv.wiener_deconvolve`).
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        Gray image (H, W), float.
+    kernel : numpy.ndarray
+        Blur kernel (k, k), k <= H, W.
+    nsr : float
+        Constant NSR = 1/SNR, > 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        The restoration (H, W), float64, unclipped.
+
+    References
+    ----------
+    Eq. 4 of the paper.
+    """
+    otf = kernel_to_otf(kernel, image.shape)
+    spectrum = np.fft.rfft2(image) * np.conj(otf) / (np.abs(otf) ** 2 + nsr)
+    return np.fft.irfft2(spectrum, s=image.shape)
+
+
+def boundary_comparison(sharp: np.ndarray, blurred: np.ndarray, kernel: np.ndarray) -> list[dict]:
+    """The blurred image and its Wiener restorations with periodic and mirror boundaries.
+
+    Parameters
+    ----------
+    sharp, blurred : numpy.ndarray
+        Gray images (H, W), float in [0, 1]: the truth and its blurred, noisy copy.
+    kernel : numpy.ndarray
+        The true blur kernel (k, k).
+
+    Returns
+    -------
+    list of dict
+        ``blurred``, ``Wiener, periodic DFT`` and ``Wiener, mirror padding`` (both with the NSR
+        estimated from ``blurred``): method, image (H, W), psnr_db (dB over the whole image,
+        clipped to [0, 1]).
+
+    References
+    ----------
+    Eq. 4 (Wiener) and eq. 5-6 (PSNR) of the paper.
+    """
+    nsr = estimate_nsr(blurred)
+    images = {"blurred": blurred,
+              "Wiener, periodic DFT": periodic_wiener(blurred, kernel, nsr),
+              "Wiener, mirror padding": wiener_deconvolve(blurred, kernel, nsr)}  # fmt: skip
+    return [{"method": name, "image": image, "psnr_db": _interior_psnr(sharp, image, 0)}
+            for name, image in images.items()]  # fmt: skip
 
 
 def _per_channel(restore: Callable[[np.ndarray], np.ndarray], image: np.ndarray) -> np.ndarray:

@@ -233,13 +233,10 @@ def oracle_summary(rows: list[dict]) -> list[dict]:
     PSNR change (dB) against the blurred input, with its 95 % interval (t, over frames)."""
     from scipy.stats import t as student
 
-    blurred = {(r["scene"], r["sequence"], r["frame"]): r["psnr_db"] for r in rows
-               if r["variant"] == "blurred"}  # fmt: skip
     table = []
     for variant in ["blurred", *VARIANTS]:
         subset = [r for r in rows if r["variant"] == variant]
-        gains = np.array([r["psnr_db"] - blurred[(r["scene"], r["sequence"], r["frame"])]
-                          for r in subset])  # fmt: skip
+        gains = frame_gains(rows, variant)[1]
         half = (student.ppf(0.975, len(gains) - 1) * gains.std(ddof=1) / np.sqrt(len(gains))
                 if len(gains) > 1 else float("nan"))  # fmt: skip
         first = subset[0]
@@ -250,6 +247,59 @@ def oracle_summary(rows: list[dict]) -> list[dict]:
                       "gain_db": round(float(gains.mean()), 2),
                       "gain_ci95_db": round(float(half), 2)})  # fmt: skip
     return table
+
+
+def frame_gains(rows: list[dict], variant: str) -> tuple[np.ndarray, np.ndarray]:
+    """Per frame of :func:`oracle_rows`: the recorded blur extent and the PSNR change of one
+    variant against the blurred input (paired on scene, sequence and frame).
+
+    Parameters
+    ----------
+    rows : list of dict
+        :func:`oracle_rows`, with the ``blurred`` rows.
+    variant : str
+        A key of VARIANTS.
+
+    Returns
+    -------
+    extent_px : numpy.ndarray
+        (N,) the mean blur extent recorded in blur.csv, pixels.
+    gain_db : numpy.ndarray
+        (N,) PSNR (eq. 6) of the variant minus that of the blurred input, dB.
+    """
+    blurred = {(r["scene"], r["sequence"], r["frame"]): r["psnr_db"] for r in rows
+               if r["variant"] == "blurred"}  # fmt: skip
+    subset = [r for r in rows if r["variant"] == variant]
+    extent = np.array([r["extent_px"] for r in subset], float)
+    gain = np.array([r["psnr_db"] - blurred[(r["scene"], r["sequence"], r["frame"])]
+                     for r in subset], float)  # fmt: skip
+    return extent, gain
+
+
+def gain_by_extent(
+    rows: list[dict], variant: str = "path_linear_best", threshold_px: float = 4.0
+) -> tuple[float, float]:
+    """Mean PSNR change of one variant against the blurred input, on frames with large and with
+    small recorded blur.
+
+    Parameters
+    ----------
+    rows : list of dict
+        :func:`oracle_rows`, with the ``blurred`` rows.
+    variant : str
+        A key of VARIANTS (default: every ingredient true).
+    threshold_px : float
+        Frames with a recorded extent >= this (pixels) are large, the others small.
+
+    Returns
+    -------
+    large, small : float
+        Mean PSNR changes, dB (nan where no frame falls on that side).
+    """
+    extent, gain = frame_gains(rows, variant)
+    large = extent >= threshold_px
+    return (float(gain[large].mean()) if large.any() else float("nan"),
+            float(gain[~large].mean()) if (~large).any() else float("nan"))  # fmt: skip
 
 
 def per_scene_table(rows: list[dict]) -> list[dict]:

@@ -1,8 +1,19 @@
 """Figures, one function per figure, by topic; every one is drawn in the style of
 :mod:`blurloc.plots.style` (applied per figure, never globally) and saved as PNG + PDF."""
 
-from .blur import plot_detection, plot_estimation_accuracy, plot_kernels, plot_spectra
-from .deconv import plot_deblurring_process
+from .blur import (
+    plot_detection,
+    plot_estimation_accuracy,
+    plot_kernels,
+    plot_spectra,
+    plot_standin_estimation,
+)
+from .deconv import (
+    plot_deblurring_process,
+    plot_nsr_curve,
+    plot_oracle_gains,
+    plot_restorations,
+)
 from .pose import (
     plot_dose_response,
     plot_error_distributions,
@@ -40,6 +51,8 @@ __all__ = [
     "plot_estimation_accuracy",
     "plot_exposure",
     "plot_kernels",
+    "plot_nsr_curve",
+    "plot_oracle_gains",
     "plot_paired_differences",
     "plot_per_scene_metric",
     "plot_pipeline",
@@ -47,8 +60,10 @@ __all__ = [
     "plot_predicted_paths",
     "plot_predicted_views",
     "plot_ratios",
+    "plot_restorations",
     "plot_scene_gallery",
     "plot_spectra",
+    "plot_standin_estimation",
     "plot_training_curves",
     "plot_trajectories",
     "plot_video_network",

@@ -164,3 +164,43 @@ def plot_detection(
         axis.set_xlabel("blur score ln(P_mid / P_high)")
         axis.legend(fontsize=7)
     return figure
+
+
+@styled
+def plot_standin_estimation(rows: list[dict], angle_from_px: float = 4.0) -> plt.Figure:
+    """Blind estimates of stand-in frames against their recorded blur: the estimated length
+    (with the line estimate = recorded) and the angle error, each against the recorded extent.
+
+    Parameters
+    ----------
+    rows : list of dict
+        :func:`blurloc.experiments.blur_estimation.estimation_rows`; only the camera frames
+        (kind ``color``) are drawn, the sharp renders are left out. Uses extent_px and
+        estimated_length_px (pixels) and angle_error_deg (degrees).
+    angle_from_px : float
+        Extent (pixels) from which the angle is scored, marked by a dotted line.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Eq. 1-2 of the paper (the linear blur model whose length and angle are estimated).
+    """
+    frames = [r for r in rows if r["kind"] == "color"]
+    extent = np.array([r["extent_px"] for r in frames])
+    figure, axes = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
+    axes[0].scatter(extent, [r["estimated_length_px"] for r in frames], s=8, alpha=0.6)
+    axes[0].plot([0, extent.max()], [0, extent.max()], "k--", lw=1, label="estimate = recorded")
+    axes[0].set(xlabel="recorded extent (px, blur.csv)", ylabel="estimated length L (px)",
+                title="Blur length")  # fmt: skip
+    axes[1].scatter(extent, [r["angle_error_deg"] for r in frames], s=8, alpha=0.6)
+    axes[1].axvline(angle_from_px, color="#888888", ls=":",
+                    label=f"scored from {angle_from_px:g} px")  # fmt: skip
+    axes[1].set(xlabel="recorded extent (px, blur.csv)", ylabel="angle error (°)",
+                title="Blur direction")  # fmt: skip
+    for axis in axes:
+        axis.legend(fontsize=7)
+    figure.suptitle(f"Blind estimation on {len(frames)} stand-in frames against the recorded blur")
+    return figure

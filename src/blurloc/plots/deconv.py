@@ -1,4 +1,5 @@
-"""Figure of single-image deblurring (notebook 02): the deblurring process of Fig. 3."""
+"""Figures of single-image deblurring (notebook 02): inverse filter against Wiener, the NSR
+curve, the boundaries, the deblurring process of Fig. 3 and the oracle runs."""
 
 from __future__ import annotations
 
@@ -46,4 +47,114 @@ def plot_deblurring_process(rows: list[dict]) -> plt.Figure:
         image_axis(row[3], item["restored"], "restored (Wiener)")
         image_axis(row[4], item["sharp"], "sharp (truth)")
     figure.suptitle("Fig. 3 · The image deblurring process (this package)")
+    return figure
+
+
+@styled
+def plot_restorations(rows: list[dict], title: str) -> plt.Figure:
+    """Restorations side by side, one row per noise level, each panel titled by its method and
+    PSNR.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Each with ``method``, ``image`` (H, W) float (shown clipped to [0, 1]), ``psnr_db`` (dB)
+        and optionally ``noise_sigma`` (images in [0, 1]); rows of one noise level in order
+        (:func:`blurloc.experiments.deblurring.filter_comparison` or
+        :func:`~blurloc.experiments.deblurring.boundary_comparison`).
+    title : str
+        Figure title: what is shown and where the PSNR is measured.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Eq. 3 (inverse filter), eq. 4 (Wiener) and eq. 5-6 (PSNR) of the paper.
+    """
+    levels = list(dict.fromkeys(r.get("noise_sigma") for r in rows))
+    columns = max(sum(r.get("noise_sigma") == level for r in rows) for level in levels)
+    figure, axes = plt.subplots(len(levels), columns, figsize=(3.2 * columns, 3.3 * len(levels)),
+                                squeeze=False, layout="constrained")  # fmt: skip
+    for axis_row, level in zip(axes, levels, strict=True):
+        subset = [r for r in rows if r.get("noise_sigma") == level]
+        for axis, row in zip(axis_row, subset, strict=False):
+            noise = "" if level is None else f"σ = {level:g}: "
+            image_axis(axis, row["image"], f"{row['method']}\n{noise}{row['psnr_db']:.1f} dB")
+    figure.suptitle(title)
+    return figure
+
+
+@styled
+def plot_nsr_curve(curve: dict, title: str) -> plt.Figure:
+    """PSNR of the Wiener restoration against the NSR (log scale), with the estimated NSR and
+    the blurred input's PSNR as reference lines.
+
+    Parameters
+    ----------
+    curve : dict
+        :func:`blurloc.experiments.deblurring.nsr_curve`: ``nsr`` (M,), ``psnr_db`` (M,) dB,
+        ``estimated_nsr`` and ``blurred_psnr_db`` (dB).
+    title : str
+        What was restored (image, kernel, noise).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Eq. 4 (Wiener) and eq. 5-6 (PSNR) of the paper.
+    """
+    figure, axis = plt.subplots(figsize=(5.5, 3.2), layout="constrained")
+    axis.semilogx(curve["nsr"], curve["psnr_db"], "o-", label="Wiener (eq. 4)")
+    axis.axvline(curve["estimated_nsr"], color="k", ls="--",
+                 label=f"estimated NSR {curve['estimated_nsr']:.3g}")  # fmt: skip
+    axis.axhline(curve["blurred_psnr_db"], color="#555555", ls=":", label="blurred input")
+    axis.set_xlabel("NSR = 1/SNR (constant, log scale)")
+    axis.set_ylabel("PSNR (dB)")
+    axis.set_title(title)
+    axis.legend(fontsize=7)
+    return figure
+
+
+@styled
+def plot_oracle_gains(
+    summary: list[dict], points: dict[str, tuple[np.ndarray, np.ndarray]]
+) -> plt.Figure:
+    """Mean PSNR change of each oracle variant against the blurred input (bars, 95 % interval),
+    and the per-frame change against the recorded blur extent.
+
+    Parameters
+    ----------
+    summary : list of dict
+        :func:`blurloc.experiments.wiener_oracles.oracle_summary`: variant, gain_db and
+        gain_ci95_db (dB), frames.
+    points : dict
+        ``{variant: (extent_px (N,) pixels, gain_db (N,) dB)}``
+        (:func:`blurloc.experiments.wiener_oracles.frame_gains`), one scatter each.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Eq. 4 (Wiener) and eq. 5-6 (PSNR) of the paper.
+    """
+    figure, axes = plt.subplots(1, 2, figsize=(11, 3.9), layout="constrained")
+    axes[0].barh([r["variant"] for r in summary], [r["gain_db"] for r in summary],
+                 xerr=[r["gain_ci95_db"] for r in summary], color="#4c72b0")  # fmt: skip
+    axes[0].axvline(0, color="k", lw=1)
+    axes[0].set(xlabel="mean PSNR change vs blurred input (dB)", ylabel="Wiener variant",
+                title="Mean change per variant (95 % interval)")  # fmt: skip
+    for variant, (extent, gain) in points.items():
+        axes[1].scatter(extent, gain, s=10, alpha=0.7, label=variant)
+    axes[1].axhline(0, color="k", lw=1)
+    axes[1].set(xlabel="recorded blur extent (px, blur.csv)", ylabel="PSNR change (dB)",
+                title="Change per frame against blur extent")  # fmt: skip
+    axes[1].legend(fontsize=7)
+    figure.suptitle(f"Wiener with ingredients replaced by the truth, "
+                    f"{summary[0]['frames']} stand-in frames")  # fmt: skip
     return figure
