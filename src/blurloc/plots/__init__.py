@@ -3,6 +3,12 @@
 
 from .blur import plot_detection, plot_estimation_accuracy, plot_kernels, plot_spectra
 from .deconv import plot_deblurring_process
+from .explore import (
+    blur_spectrum_explorer,
+    plot_blur_spectrum,
+    plot_wiener_restoration,
+    wiener_explorer,
+)
 from .pose import (
     plot_dose_response,
     plot_error_distributions,
@@ -28,11 +34,13 @@ from .style import figure_style, save_figure
 from .video import plot_attention, plot_training_curves, plot_video_network
 
 __all__ = [
+    "blur_spectrum_explorer",
     "figure_style",
     "plot_architecture",
     "plot_attention",
     "plot_blur_histogram",
     "plot_blur_pairs",
+    "plot_blur_spectrum",
     "plot_deblurring_process",
     "plot_detection",
     "plot_dose_response",
@@ -52,5 +60,7 @@ __all__ = [
     "plot_training_curves",
     "plot_trajectories",
     "plot_video_network",
+    "plot_wiener_restoration",
     "save_figure",
+    "wiener_explorer",
 ]
