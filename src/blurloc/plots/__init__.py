@@ -14,6 +14,12 @@ from .deconv import (
     plot_oracle_gains,
     plot_restorations,
 )
+from .explore import (
+    blur_spectrum_explorer,
+    plot_blur_spectrum,
+    plot_wiener_restoration,
+    wiener_explorer,
+)
 from .pose import (
     plot_dose_response,
     plot_error_distributions,
@@ -39,11 +45,13 @@ from .style import figure_style, save_figure
 from .video import plot_attention, plot_training_curves, plot_video_network
 
 __all__ = [
+    "blur_spectrum_explorer",
     "figure_style",
     "plot_architecture",
     "plot_attention",
     "plot_blur_histogram",
     "plot_blur_pairs",
+    "plot_blur_spectrum",
     "plot_deblurring_process",
     "plot_detection",
     "plot_dose_response",
@@ -67,5 +75,7 @@ __all__ = [
     "plot_training_curves",
     "plot_trajectories",
     "plot_video_network",
+    "plot_wiener_restoration",
     "save_figure",
+    "wiener_explorer",
 ]
