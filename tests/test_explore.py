@@ -56,26 +56,28 @@ def test_static_wiener_figure_scores_the_restoration(photo: np.ndarray) -> None:
 
 def test_blur_explorer_has_the_three_sliders_and_redraws(photo: np.ndarray) -> None:
     explorer = plots.blur_spectrum_explorer(photo, length_px=10.0)
-    sliders = {w._kwarg: (w.min, w.max, w.value) for w in explorer.kwargs_widgets}
+    sliders = {name: (w.min, w.max, w.value) for name, w in explorer.sliders.items()}
     assert sliders == {"length_px": (1.0, 40.0, 10.0), "angle_deg": (0.0, 179.0, 30.0),
                        "noise_sigma": (0.0, 0.05, 0.005)}  # fmt: skip
-    first = explorer.result
-    assert _titles(first)[1] == "blurred: L = 10 px, θ = 30°"  # drawn once when built
-    explorer.kwargs_widgets[1].value = 100.0
-    assert explorer.result is not first
-    assert _titles(explorer.result)[1] == "blurred: L = 10 px, θ = 100°"
+    assert explorer.figure is None  # nothing drawn inside the widget until a slider moves
+    explorer.sliders["angle_deg"].value = 100.0
+    first = explorer.figure
+    assert _titles(first)[1] == "blurred: L = 10 px, θ = 100°"
+    explorer.sliders["length_px"].value = 20.0
+    assert explorer.figure is not first
+    assert _titles(explorer.figure)[1] == "blurred: L = 20 px, θ = 100°"
 
 
 def test_wiener_explorer_has_a_logarithmic_nsr_slider_and_redraws(photo: np.ndarray) -> None:
     explorer = plots.wiener_explorer(photo)
-    names = [w._kwarg for w in explorer.kwargs_widgets]
-    assert names == ["length_px", "angle_deg", "noise_sigma", "nsr"]
-    nsr = explorer.kwargs_widgets[3]
+    assert list(explorer.sliders) == ["length_px", "angle_deg", "noise_sigma", "nsr"]
+    nsr = explorer.sliders["nsr"]
     assert type(nsr).__name__ == "FloatLogSlider" and (nsr.base, nsr.min, nsr.max) == (10, -5, 0)
-    first = _titles(explorer.result)[1]
+    nsr.value = 1e-4
+    first = _titles(explorer.figure)[1]
     nsr.value = 0.1
-    assert _titles(explorer.result)[1] != first
-    assert "NSR = 0.1\n" in _titles(explorer.result)[1]
+    assert _titles(explorer.figure)[1] != first
+    assert "NSR = 0.1\n" in _titles(explorer.figure)[1]
 
 
 @pytest.mark.parametrize(

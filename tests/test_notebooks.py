@@ -65,6 +65,10 @@ def test_notebooks_run_in_quick_mode(tmp_path: Path, capfd: pytest.CaptureFixtur
             if o.get("output_type") == "error"
         ]
         assert not errors, name
+        code = [c for c in executed["cells"] if c["cell_type"] == "code"]
+        drawing = sum("save_figure(" in "".join(c["source"]) for c in code)
+        shown = sum("image/png" in o.get("data", {}) for c in code for o in c.get("outputs", []))
+        assert shown >= drawing, f"{name}: {shown} figures shown, {drawing} cells draw one"
     log = capfd.readouterr()
     noise = [line for line in (log.out + log.err).splitlines()
              if "WARNING" in line or "ERROR" in line]  # fmt: skip

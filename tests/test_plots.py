@@ -302,3 +302,19 @@ def test_standin_estimation_draws_the_camera_frames_only() -> None:
     assert all(len(a.collections[0].get_offsets()) == 2 for a in figure.axes)
     assert "2 stand-in frames" in figure.get_suptitle()
     assert not _overlapping_texts(figure)
+
+
+def test_figure_style_keeps_the_interactive_mode_a_backend_sets_inside() -> None:
+    """A notebook's inline backend turns interactive mode on when the first figure loads it,
+    inside the style; restoring the old mode on exit would hide every later figure."""
+    from blurloc.plots import figure_style
+
+    before = matplotlib.is_interactive()
+    try:
+        matplotlib.interactive(False)
+        with figure_style():
+            assert plt.rcParams["font.size"] == 9
+            matplotlib.interactive(True)
+        assert matplotlib.is_interactive()
+    finally:
+        matplotlib.interactive(before)

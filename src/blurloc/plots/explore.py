@@ -9,6 +9,7 @@ package runs without them. In JupyterLab a slider change redraws the figure; run
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import matplotlib.pyplot as plt
@@ -153,23 +154,58 @@ def plot_wiener_restoration(
     return figure
 
 
+@dataclass
+class SliderExplorer:
+    """Sliders above an output area that redraws a figure when a slider is released.
+
+    Nothing is drawn until a slider moves: the notebook draws the figure at the starting values
+    once, statically, so that a copy without a running kernel shows it (and a headless run
+    stores no figure inside a widget, where papermill would wait on it).
+
+    Attributes
+    ----------
+    sliders : dict
+        ``{keyword of the drawing function: slider}``.
+    output : ipywidgets.Output
+        Where the figure is drawn.
+    figure : matplotlib.figure.Figure or None
+        The figure last drawn (None before any slider moved).
+    """
+
+    sliders: dict
+    output: ipywidgets.Output
+    figure: plt.Figure | None = None
+
+    def _ipython_display_(self) -> None:
+        """Show the sliders and the output area in a notebook."""
+        import ipywidgets
+        from IPython.display import display
+
+        display(ipywidgets.VBox([*self.sliders.values(), self.output]))
+
+
 def _explorer(
     draw: Callable[..., plt.Figure], image: np.ndarray, seed: int, sliders: dict
-) -> ipywidgets.interactive:
-    """An ``ipywidgets.interactive`` that calls ``draw(image, **slider values, seed=seed)`` on
-    every slider change and shows the figure in its output area (any matplotlib backend)."""
+) -> SliderExplorer:
+    """A :class:`SliderExplorer` that calls ``draw(image, **slider values, seed=seed)`` when a
+    slider changes and shows the figure in its output area (any matplotlib backend)."""
     import ipywidgets
     from IPython.display import display
 
     image = _checked(image)
+    explorer = SliderExplorer(sliders, ipywidgets.Output())
 
-    def redraw(**values: float) -> plt.Figure:
-        figure = draw(image, **values, seed=seed)
-        plt.close(figure)  # shown once, below, not again by the inline backend
-        display(figure)
-        return figure
+    def redraw(_change: dict) -> None:
+        figure = draw(image, **{k: w.value for k, w in sliders.items()}, seed=seed)
+        plt.close(figure)  # shown once, in the output area, not again by the inline backend
+        explorer.figure = figure
+        explorer.output.clear_output(wait=True)
+        with explorer.output:
+            display(figure)
 
-    return ipywidgets.interactive(redraw, **sliders)
+    for slider in sliders.values():
+        slider.observe(redraw, names="value")
+    return explorer
 
 
 def _blur_sliders(length_px: float, angle_deg: float, noise_sigma: float) -> dict:
@@ -196,7 +232,7 @@ def blur_spectrum_explorer(
     angle_deg: float = 30.0,
     noise_sigma: float = 0.005,
     seed: int = 0,
-) -> ipywidgets.interactive:
+) -> SliderExplorer:
     """Sliders for blur length, angle and noise that redraw :func:`plot_blur_spectrum`.
 
     Parameters
@@ -215,8 +251,8 @@ def blur_spectrum_explorer(
 
     Returns
     -------
-    ipywidgets.interactive
-        The sliders and an output area; ``display`` it in a notebook. Its ``result`` is the
+    SliderExplorer
+        The sliders and an output area; ``display`` it in a notebook. Its ``figure`` is the
         figure last drawn.
 
     Raises
@@ -240,7 +276,7 @@ def wiener_explorer(
     noise_sigma: float = 0.01,
     nsr: float = 1e-2,
     seed: int = 0,
-) -> ipywidgets.interactive:
+) -> SliderExplorer:
     """Sliders for blur length, angle, noise and NSR that redraw
     :func:`plot_wiener_restoration`.
 
@@ -262,8 +298,8 @@ def wiener_explorer(
 
     Returns
     -------
-    ipywidgets.interactive
-        The sliders and an output area; ``display`` it in a notebook. Its ``result`` is the
+    SliderExplorer
+        The sliders and an output area; ``display`` it in a notebook. Its ``figure`` is the
         figure last drawn.
 
     Raises

@@ -3,12 +3,14 @@ each figure function (no global matplotlib state changes), its colours, and savi
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import ParamSpec, TypeVar
 
+import matplotlib
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -43,15 +45,25 @@ _P = ParamSpec("_P")
 _R = TypeVar("_R")
 
 
-def figure_style() -> plt.style.context:
+@contextlib.contextmanager
+def figure_style() -> Iterator[None]:
     """The package's style as a context manager, for figures drawn outside this package.
 
-    Returns
-    -------
-    contextlib.AbstractContextManager
-        ``plt.style.context(STYLE)``: rcParams of STYLE inside, restored on exit.
+    The rcParams of STYLE hold inside and are restored on exit, except interactive mode: a
+    notebook's inline backend switches it on when it loads with the first figure, and
+    restoring it would leave every later figure of the notebook unshown.
+
+    Yields
+    ------
+    None
+        Inside ``plt.style.context(STYLE)``.
     """
-    return plt.style.context(STYLE)
+    with plt.style.context(STYLE):
+        try:
+            yield
+        finally:
+            interactive = matplotlib.is_interactive()
+    matplotlib.interactive(interactive)
 
 
 def styled(function: Callable[_P, _R]) -> Callable[_P, _R]:
