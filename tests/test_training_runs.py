@@ -214,3 +214,15 @@ def test_a_pose_epoch_is_a_fixed_number_of_windows(
     assert state["schedule"]["last_epoch"] == config.epochs * 2
     with pytest.raises(ValueError, match="--windows-per-epoch"):
         replace(TINY, windows_per_epoch=0)
+
+
+
+def test_parallel_map_keeps_the_order_in_worker_processes() -> None:
+    """Results come back in the order of the jobs, from two spawned processes as from one."""
+    from blurloc.train.loop import parallel_map
+
+    numbers = [7, 12, 5, 9, 30]
+    assert list(parallel_map(abs, [-n for n in numbers], 2)) == numbers
+    assert list(parallel_map(abs, [-n for n in numbers], 1)) == numbers
+    with pytest.raises(ValueError, match="workers must be >= 1"):
+        parallel_map(abs, numbers, 0)

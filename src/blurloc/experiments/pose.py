@@ -6,9 +6,7 @@ seed spread, has the regressor learned, Tables I-II beside the paper)."""
 
 from __future__ import annotations
 
-import multiprocessing
 import os
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
 from pathlib import Path
 
@@ -25,6 +23,7 @@ from ..paper import paper_values
 from ..poses import PosePair, to_quaternions
 from ..train.config import PoseTrainConfig
 from ..train.datasets import FrameCache
+from ..train.loop import parallel_map
 from ..train.pose import train_pose
 from .comparisons import per_scene_mean
 
@@ -71,11 +70,9 @@ def run_pose_matrix(
     :class:`~blurloc.train.datasets.FrameCache` per scene). Finished trainings are not re-run
     (:func:`~blurloc.train.pose.train_pose` resumes).
 
-    Small networks use two CPU cores poorly: two processes with one thread each finish two
-    trainings in about 14 s where one process with two threads needs 2 x 12 s. With
-    ``workers > 1`` the runs are spread over that many processes, each with
-    ``config.threads // workers`` threads (at least 1); the numbers then match a serial run
-    made with that many threads.
+    With ``workers > 1`` the runs are spread over that many processes
+    (:func:`~blurloc.train.loop.parallel_map`), each training with ``config.threads // workers``
+    threads (at least 1); the numbers then match a serial run made with that many threads.
 
     Parameters
     ----------
@@ -115,9 +112,7 @@ def run_pose_matrix(
     ----------
     Eq. 12-17 of the paper; Tables I-II (blurred and deblurred inputs).
     """
-    if workers < 1:
-        raise ValueError(f"workers must be >= 1, got {workers}")
-    threads = config.threads if workers == 1 else max(1, config.threads // workers)
+    threads = config.threads if workers <= 1 else max(1, config.threads // workers)
     jobs = [(roots[condition], scene, condition, head,
              replace(config, seed=seed, threads=threads,
                      image="sharp" if condition == "sharp" else "color",
@@ -125,13 +120,8 @@ def run_pose_matrix(
              model_folder(out_dir, condition, head, scene, seed))
             for scene in scenes for condition, head in runs for seed in seeds]  # fmt: skip
     _SCENE_CACHES.clear()
-    if workers == 1:
-        results = map(_run_one, jobs)
-        return _collect(tqdm(results, total=len(jobs), disable=not progress, desc="pose runs"))
-    context = multiprocessing.get_context("spawn")  # a forked torch may hang on its threads
-    with ProcessPoolExecutor(workers, mp_context=context) as pool:
-        results = pool.map(_run_one, jobs)
-        return _collect(tqdm(results, total=len(jobs), disable=not progress, desc="pose runs"))
+    results = parallel_map(_run_one, jobs, workers)
+    return _collect(tqdm(results, total=len(jobs), disable=not progress, desc="pose runs"))
 
 
 #: The frames of the scene this process works on (a new scene lets the previous one's go).

@@ -4,16 +4,13 @@ stage reads them with the same reader)."""
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 import shutil
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import cv2
 import numpy as np
-import torch
 from tqdm.auto import tqdm
 
 from ..data.sevenscenes import SPLIT_FILES, SequenceFrames, list_scenes, load_split, read_image
@@ -21,6 +18,7 @@ from ..deconv import deblur_blind
 from ..files import link_or_copy
 from ..images import as_float_image
 from ..metrics import psnr, ssim
+from ..train.loop import parallel_map
 
 
 def wiener_sequence(blurred: np.ndarray) -> np.ndarray:
@@ -123,28 +121,17 @@ def write_deblurred_root(
     ValueError
         If ``workers`` is not positive.
     """
-    if workers < 1:
-        raise ValueError(f"workers must be >= 1, got {workers}")
     root, out_root = Path(root), Path(out_root)
+    jobs = [(sequence, out_root / scene / sequence.folder.name, method)
+            for scene in list_scenes(root) for split in SPLIT_FILES
+            for sequence in load_split(root, scene, split)]  # fmt: skip
+    done = parallel_map(_write_deblurred_sequence, jobs, workers)  # lazy: nothing runs yet
     for scene in list_scenes(root):
         (out_root / scene).mkdir(parents=True, exist_ok=True)
         for name in SPLIT_FILES.values():
             shutil.copyfile(root / scene / name, out_root / scene / name)
-    jobs = [(sequence, out_root / scene / sequence.folder.name, method)
-            for scene in list_scenes(root) for split in SPLIT_FILES
-            for sequence in load_split(root, scene, split)]  # fmt: skip
-    bar = tqdm(total=len(jobs), disable=not progress, desc="write deblurred")
-    if workers == 1:
-        for job in jobs:
-            _write_deblurred_sequence(job)
-            bar.update()
-    else:
-        context = multiprocessing.get_context("spawn")  # a forked torch may hang on its threads
-        with ProcessPoolExecutor(workers, mp_context=context, initializer=torch.set_num_threads,
-                                 initargs=(1,)) as pool:  # fmt: skip
-            for _ in pool.map(_write_deblurred_sequence, jobs):
-                bar.update()
-    bar.close()
+    for _ in tqdm(done, total=len(jobs), disable=not progress, desc="write deblurred"):
+        pass
     return out_root
 
 

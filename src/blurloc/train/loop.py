@@ -10,9 +10,11 @@ checkpoints were made with other settings is refused unless the caller asks to s
 from __future__ import annotations
 
 import json
+import multiprocessing
 import os
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -230,3 +232,45 @@ def _changed(stored: dict, wanted: dict, prefix: str = "") -> list[str]:
         elif old != value:
             changed.append(f"{prefix}{key}: {old!r} -> {value!r}")
     return changed
+
+
+def parallel_map(function: Callable, jobs: Iterable, workers: int = 1) -> Iterator:
+    """``map(function, jobs)``, results in order, spread over ``workers`` processes.
+
+    Workers are spawned (a forked PyTorch may hang on its threads) and each runs one PyTorch
+    thread: on 2 CPU cores, two one-thread processes finish two small networks' work in about
+    14 s where one two-thread process needs 2 x 12 s. With ``workers > 1``, ``function`` and the
+    jobs must be picklable (module-level functions, plain data).
+
+    Parameters
+    ----------
+    function : callable
+        Applied to every job.
+    jobs : iterable
+        The arguments, one per call.
+    workers : int
+        Processes (1: in this process, with its thread count).
+
+    Returns
+    -------
+    iterator
+        ``function(job)`` for every job, in the order of ``jobs``.
+
+    Raises
+    ------
+    ValueError
+        If ``workers`` is not positive.
+    """
+    if workers < 1:
+        raise ValueError(f"workers must be >= 1, got {workers}")
+    if workers == 1:
+        return map(function, jobs)
+    return _pooled(function, jobs, workers)
+
+
+def _pooled(function: Callable, jobs: Iterable, workers: int) -> Iterator:
+    """The results of :func:`parallel_map` from a pool that closes when they are consumed."""
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(workers, mp_context=context, initializer=torch.set_num_threads,
+                             initargs=(1,)) as pool:  # fmt: skip
+        yield from pool.map(function, jobs)
