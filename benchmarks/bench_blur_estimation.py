@@ -1,7 +1,7 @@
 """Blind blur estimation on a stand-in split, against the blur recorded in ``blur.csv``.
 
     python benchmarks/bench_blur_estimation.py --root ROOT [--split test] [--budget N]
-    python benchmarks/bench_blur_estimation.py --fit ROOT [ROOT ...]
+    python benchmarks/bench_blur_estimation.py --fit ROOT [ROOT ...] [--budget N]
 
 Prints the estimator's and the detector's measures beside their targets (Spearman of estimated
 length vs recorded extent >= 0.8; median length error <= 1 px for extents >= 2 px; median angle
@@ -13,8 +13,10 @@ depth) of the estimate and of the variance of the Laplacian. ROOT is a rendered 
 given and on blurred photographs (``photo_training_set``), writes it to
 ``blurloc.blur.LENGTH_MODEL_PATH`` and prints the detector threshold chosen on the stand-in's
 training examples at their own scale (frames with >= 3 px against sharp renders and frames under
-1 px). The shipped model: ``--fit`` on renders at 160x120 (``--frames 120``, noise 0.01 and
-0.003) and at 640x480 (``--frames 24``, chess, fire, heads, office), seed 0.
+1 px). The shipped model: ``--fit data/standin ROOT640 --budget 6000``, where ``data/standin``
+is the full default render (notebook 00; about 6,000 of its training frames are read) and
+ROOT640 holds 640x480 renders (``blurloc synth --out ROOT640 --width 640 --height 480 --frames
+12 --scenes chess office``), so that the model sees both scales.
 """
 
 from __future__ import annotations
@@ -34,11 +36,12 @@ from blurloc.experiments.blur_estimation import (
 )
 
 
-def fit(roots: list[str]) -> None:
-    """Fit the length model on the training splits of ``roots`` and write it to the package."""
+def fit(roots: list[str], budget: int | None) -> None:
+    """Fit the length model on the training splits of ``roots`` (about ``budget`` frames of
+    each) and write it to the package."""
     from blurloc.blur import fit_length_model
 
-    sets = [length_training_set(root, "train") for root in roots]
+    sets = [length_training_set(root, "train", budget=budget, progress=True) for root in roots]
     features = np.concatenate([found for found, _ in sets])
     extents = np.concatenate([extent for _, extent in sets])
     photo_features, photo_extents = photo_training_set()
@@ -58,12 +61,13 @@ def main() -> None:
     parser.add_argument("--root", help="stand-in root with blur.csv files")
     parser.add_argument("--split", default="test")
     parser.add_argument("--budget", type=int, default=None,
-                        help="about how many frames of the split to read (default: all)")
+                        help="about how many frames of the split (with --fit: of each root's "
+                        "training split) to read (default: all)")
     parser.add_argument("--no-motion", action="store_true", help="skip the camera-motion check")
     parser.add_argument("--fit", nargs="+", metavar="ROOT", help="fit the length model instead")
     args = parser.parse_args()
     if args.fit:
-        fit(args.fit)
+        fit(args.fit, args.budget)
         return
     if not args.root:
         parser.error("--root is required unless --fit is given")

@@ -8,7 +8,14 @@ import skimage.data
 from skimage.metrics import peak_signal_noise_ratio, structural_similarity
 
 from blurloc.blur import blur_image, motion_kernel, to_gray, trajectory_kernel
-from blurloc.deconv import estimate_noise_sigma, inverse_filter, kernel_to_otf, wiener_deconvolve
+from blurloc.deconv import (
+    _even_dft_size,
+    ccs_pack,
+    estimate_noise_sigma,
+    inverse_filter,
+    kernel_to_otf,
+    wiener_deconvolve,
+)
 from blurloc.experiments.deblurring import boundary_comparison, filter_comparison, nsr_curve
 from blurloc.experiments.wiener_oracles import frame_gains, gain_by_extent
 from blurloc.metrics import psnr, ssim
@@ -167,6 +174,43 @@ def test_kernel_to_otf_is_the_centred_kernel_padded_and_transformed() -> None:
     padded = np.pad(kernel, ((0, shape[0] - kernel.shape[0]), (0, shape[1] - kernel.shape[1])))
     centred = np.roll(padded, (-(kernel.shape[0] // 2), -(kernel.shape[1] // 2)), axis=(0, 1))
     np.testing.assert_allclose(kernel_to_otf(kernel, shape), np.fft.rfft2(centred), atol=1e-5)
+
+
+@pytest.mark.parametrize("shape", [(4, 4), (6, 10), (120, 160), (486, 660)])
+def test_ccs_pack_is_the_layout_of_opencv_dft(shape: tuple[int, int]) -> None:
+    import cv2
+
+    plane = np.random.default_rng(0).random(shape).astype(np.float32)
+    expected = cv2.dft(plane)
+    np.testing.assert_allclose(ccs_pack(np.fft.rfft2(plane)), expected,
+                               atol=1e-6 * np.abs(expected).max())  # fmt: skip
+    with pytest.raises(ValueError, match="M even"):
+        ccs_pack(np.fft.rfft2(plane[:-1]))
+
+
+def test_wiener_on_a_camera_sized_frame_equals_the_textbook_formula() -> None:
+    """Eq. 4 applied by OpenCV's packed transforms equals NumPy's float64 DFT of the same mirror-
+    padded frame: a 640x480 RGB uint8 frame, every channel, to one 8-bit step."""
+    import cv2
+
+    image = cv2.resize(skimage.data.astronaut() / 255.0, (640, 480), interpolation=cv2.INTER_AREA)
+    kernel = motion_kernel(15, 30)
+    blurred = np.round(np.clip(blur_image(image, kernel, 0.01, rng=np.random.default_rng(1)),
+                               0, 1) * 255).astype(np.uint8)  # fmt: skip
+    nsr = 0.01
+    restored = wiener_deconvolve(blurred, kernel, nsr)
+    pad = max(kernel.shape) + 8
+    rows, columns = (_even_dft_size(n + 2 * pad) for n in blurred.shape[:2])
+    padded = cv2.copyMakeBorder(blurred, pad, rows - 480 - pad, pad, columns - 640 - pad,
+                                cv2.BORDER_REFLECT_101) / 255.0  # fmt: skip
+    otf = kernel_to_otf(kernel, padded.shape[:2]).astype(np.complex128)
+    gain = np.conj(otf) / (np.abs(otf) ** 2 + nsr)
+    expected = np.fft.irfft2(np.fft.rfft2(padded, axes=(0, 1)) * gain[..., None], padded.shape[:2],
+                             axes=(0, 1))[pad : pad + 480, pad : pad + 640]  # fmt: skip
+    expected = np.round(np.clip(expected, 0, 1) * 255)
+    assert restored.shape == blurred.shape
+    assert np.abs(restored - expected).max() <= 1
+    assert (restored != expected).mean() < 1e-3
 
 
 def test_filter_comparison_restores_without_noise_and_orders_its_rows() -> None:

@@ -45,25 +45,73 @@ def estimate_nsr(image: np.ndarray) -> float:
     return float(max(NSR_COEFFICIENT * sigma**NSR_EXPONENT, 1e-6))
 
 
+def _even_dft_size(n: int) -> int:
+    """Smallest even length >= ``n`` that OpenCV's DFT transforms fast (a product of 2, 3, 5)."""
+    size = cv2.getOptimalDFTSize(n)
+    while size % 2:
+        size = cv2.getOptimalDFTSize(size + 1)
+    return size
+
+
+def ccs_pack(spectrum: np.ndarray) -> np.ndarray:
+    """A real (M, N) array's ``rfft2`` spectrum (M, N/2 + 1) in OpenCV's packed CCS layout (M, N).
+
+    The layout of ``cv2.dft`` on a real array, M and N even: column 0 and column N - 1 hold the
+    zero and the Nyquist frequency column packed vertically (Re Y[0], Re Y[1], Im Y[1], ...,
+    Re Y[M/2]); every other column pair (2k - 1, 2k) holds Re and Im of frequency column k.
+    With it a frequency response computed in NumPy multiplies ``cv2.dft`` output directly
+    (``cv2.mulSpectrums``).
+
+    Parameters
+    ----------
+    spectrum : numpy.ndarray
+        (M, N/2 + 1) complex, M even, N/2 + 1 >= 2.
+
+    Returns
+    -------
+    numpy.ndarray
+        (M, N) float32.
+    """
+    rows, half = spectrum.shape
+    if rows % 2 or half < 2:
+        raise ValueError(f"spectrum must be (M, N/2 + 1) with M even, got {spectrum.shape}")
+    packed = np.empty((rows, 2 * (half - 1)), np.float32)
+    packed[:, 1:-1:2] = spectrum[:, 1:-1].real
+    packed[:, 2:-1:2] = spectrum[:, 1:-1].imag
+    for column, source in ((0, 0), (-1, -1)):
+        edge = spectrum[: rows // 2 + 1, source]
+        packed[0, column] = edge[0].real
+        packed[1:-1:2, column] = edge[1:-1].real
+        packed[2:-1:2, column] = edge[1:-1].imag
+        packed[-1, column] = edge[-1].real
+    return packed
+
+
 def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
     """Apply a frequency response (a function of the OTF) to each channel, with mirror padding.
 
-    All channels (stacked channels-first) go through one multi-threaded real FFT of scipy's fast
-    length (single precision: its 1e-7 relative error is far below 8-bit steps), the product
-    with the response, and one inverse FFT. Returns float64."""
+    The response is computed once in NumPy's ``rfft2`` layout and packed for OpenCV
+    (:func:`ccs_pack`); each channel then goes through ``cv2.dft``, ``cv2.mulSpectrums`` and
+    ``cv2.idft`` in single precision (its 1e-7 relative error is far below 8-bit steps; on a
+    640x480 RGB frame OpenCV's transforms take about half of SciPy's). Returns float32 for
+    uint8 input (the caller rounds it), float64 otherwise."""
     image = check_image(image)
     kernel = check_kernel(kernel, image.shape)
     scale = 1.0 / 255.0 if image.dtype == np.uint8 else 1.0
     pad = max(kernel.shape) + 8
     height, width = image.shape[:2]
-    shape = tuple(scipy.fft.next_fast_len(n + 2 * pad, real=True) for n in (height, width))
-    gain = (response(kernel_to_otf(kernel, shape)) * scale).astype(np.complex64)
+    shape = (_even_dft_size(height + 2 * pad), _even_dft_size(width + 2 * pad))
+    gain = ccs_pack(response(kernel_to_otf(kernel, shape)) * scale)
     padded = cv2.copyMakeBorder(image, pad, shape[0] - height - pad, pad, shape[1] - width - pad,
-                                cv2.BORDER_REFLECT_101).astype(np.float32)  # fmt: skip
-    planes = np.ascontiguousarray(np.moveaxis(padded, -1, 0)) if image.ndim == 3 else padded
-    restored = scipy.fft.irfft2(scipy.fft.rfft2(planes, workers=-1) * gain, s=shape, workers=-1)
-    restored = restored[..., pad : pad + height, pad : pad + width]
-    return (np.moveaxis(restored, 0, -1) if image.ndim == 3 else restored).astype(np.float64)
+                                cv2.BORDER_REFLECT_101)  # fmt: skip
+    planes = cv2.split(padded) if image.ndim == 3 else [padded]
+    restored = [
+        cv2.idft(cv2.mulSpectrums(cv2.dft(np.float32(plane)), gain, 0),
+                 flags=cv2.DFT_REAL_OUTPUT | cv2.DFT_SCALE)[pad : pad + height, pad : pad + width]
+        for plane in planes
+    ]  # fmt: skip
+    result = cv2.merge(restored) if image.ndim == 3 else restored[0]
+    return result if image.dtype == np.uint8 else result.astype(np.float64)
 
 
 def wiener_deconvolve(

@@ -11,6 +11,7 @@ from .sevenscenes import (
     read_image,
     read_pose,
     read_split,
+    split_one_sequence,
 )
 
 __all__ = [
@@ -23,4 +24,5 @@ __all__ = [
     "read_image",
     "read_pose",
     "read_split",
+    "split_one_sequence",
 ]

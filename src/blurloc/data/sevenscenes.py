@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -306,3 +307,69 @@ def check_data(root: str | os.PathLike, progress: bool = False, workers: int = 4
             raise DataError(f"{Path(root) / scene}: scene has no frames in its splits")
         summary[scene] = counts
     return {"scenes": summary}
+
+
+def split_one_sequence(
+    sequence_folder: str | os.PathLike,
+    out_root: str | os.PathLike,
+    scene: str,
+    train_frames: int,
+) -> Path:
+    """Cut one recorded sequence into a training and a test sequence of a new root.
+
+    How a single long recording (a real 1000-frame 7-Scenes sequence, or one of the stand-in's)
+    becomes something ``blurloc train-pose`` can learn from and be tested on: its first
+    ``train_frames`` frames become ``<scene>/seq-01`` (TrainSplit.txt), the rest
+    ``<scene>/seq-02`` (TestSplit.txt), numbered from 0 again. Files are hard-linked where the
+    file system allows it, copied otherwise; every kind of file a frame has (colour, sharp,
+    depth, pose) goes along.
+
+    Parameters
+    ----------
+    sequence_folder : str or os.PathLike
+        A ``seq-XX`` folder of a 7-Scenes-layout root.
+    out_root : str or os.PathLike
+        The root to write (created; an existing ``<scene>`` folder in it is refused).
+    scene : str
+        Scene folder name to write under ``out_root``.
+    train_frames : int
+        Frames of the training part; both parts must keep at least two frames.
+
+    Returns
+    -------
+    Path
+        ``out_root``.
+
+    Raises
+    ------
+    DataError
+        Naming the folder: no frames, a colour frame without its pose, too few frames for the
+        cut, or an existing scene folder in ``out_root``.
+    """
+    source = Path(sequence_folder)
+    match = re.match(r"^seq-(\d+)$", source.name)
+    if not match:
+        raise DataError(f"{source}: expected a seq-XX folder")
+    sequence = list_sequence(source.parent, int(match.group(1)))
+    if not 2 <= train_frames <= len(sequence) - 2:
+        raise DataError(f"{source}: {len(sequence)} frames cannot be cut after frame "
+                        f"{train_frames} (both parts need at least two)")  # fmt: skip
+    scene_dir = Path(out_root) / scene
+    if scene_dir.exists():
+        raise DataError(f"{scene_dir}: already exists; choose another root or remove it")
+    parts = {1: sequence.frame_ids[:train_frames], 2: sequence.frame_ids[train_frames:]}
+    for number, frame_ids in parts.items():
+        folder = scene_dir / f"seq-{number:02d}"
+        folder.mkdir(parents=True)
+        for new_id, frame_id in enumerate(frame_ids):
+            for kind in ("color", "sharp", "depth", "pose"):
+                origin = sequence.path(frame_id, kind)
+                if origin.is_file():
+                    target = frame_path(folder, new_id, kind)
+                    try:
+                        os.link(origin, target)
+                    except OSError:
+                        shutil.copyfile(origin, target)
+    (scene_dir / SPLIT_FILES["train"]).write_text("sequence1\n")
+    (scene_dir / SPLIT_FILES["test"]).write_text("sequence2\n")
+    return Path(out_root)
