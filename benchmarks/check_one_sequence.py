@@ -9,9 +9,11 @@ rendered at 640x480 (sequence 1 of each scene, 1000 frames; stairs 500, cut 400/
 renders them (about 15 core-minutes per 1000 frames; kept under ``--work`` and not re-rendered),
 cuts them with :func:`blurloc.data.split_one_sequence`, trains with the command line's defaults
 for each seed, and prints the median test errors beside the mean-pose baseline (the mean
-training position and rotation predicted for every test frame). The bar: about half the
-mean-pose error in position and clearly less in orientation. Not part of ``make reproduce``
-(the 640x480 render alone exceeds its budget); the README records the last run.
+training position and rotation predicted for every test frame) and the nearest-view oracle
+(the training pose nearest to each test pose: how far the test views lie from the training
+views). The bar: about half the mean-pose error in position and clearly less in orientation.
+Not part of ``make reproduce`` (the 640x480 render alone exceeds its budget); the README records
+the last run.
 """
 
 from __future__ import annotations
@@ -26,7 +28,11 @@ import numpy as np
 
 from blurloc.data import split_one_sequence
 from blurloc.data.synth import SynthConfig, render_sequence
-from blurloc.experiments.pose import mean_pose_baseline, predict_test_frames
+from blurloc.experiments.pose import (
+    mean_pose_baseline,
+    nearest_view_baseline,
+    predict_test_frames,
+)
 from blurloc.train.loop import parallel_map
 
 RENDER_SEED = 0
@@ -62,6 +68,11 @@ def main() -> None:
         if not (cut_root / scene).is_dir():
             split_one_sequence(render_root / scene / "seq-01", cut_root, scene, frames * 4 // 5)
         baseline = mean_pose_baseline(cut_root, scene)
+        nearest = nearest_view_baseline(cut_root, scene)
+        base, near = baseline["position_m"]["median"], nearest["position_m"]["median"]
+        print(f"{scene}: mean pose {base:.3f} m / {baseline['orientation_deg']['median']:.1f}°; "
+              f"nearest training view (oracle) {near:.3f} m / "
+              f"{nearest['orientation_deg']['median']:.1f}°", flush=True)  # fmt: skip
         for seed in range(args.seeds):
             out = args.work / "models" / f"{scene}-seed{seed}"
             start = time.perf_counter()

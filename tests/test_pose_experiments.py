@@ -17,6 +17,7 @@ from blurloc.experiments.pose import (
     learning_check,
     mean_pose_baseline,
     median_step,
+    nearest_view_baseline,
     paper_table_rows,
     per_scene,
     pose_overview,
@@ -46,6 +47,32 @@ def test_mean_pose_baseline_against_a_hand_computation(quick_root: Path) -> None
     assert summary["position_m"]["mean"] == pytest.approx(np.mean(position), abs=1e-9)
     assert summary["orientation_deg"]["median"] == pytest.approx(np.median(orientation), abs=1e-5)
     assert summary["orientation_deg"]["mean"] > 0
+
+
+def test_nearest_view_baseline_picks_the_nearest_training_pose(quick_root: Path) -> None:
+    train = np.concatenate([s.poses() for s in load_split(quick_root, "chess", "train")])
+    test = np.concatenate([s.poses() for s in load_split(quick_root, "chess", "test")])
+    relative = Rotation.from_matrix(test[:, None, :3, :3]).inv()  # (M, 1) against (N,)
+    degrees = np.degrees((relative * Rotation.from_matrix(train[:, :3, :3])).magnitude())
+    metres = np.linalg.norm(test[:, None, :3, 3] - train[None, :, :3, 3], axis=2)
+    nearest = np.argmin(metres + degrees / 30.0, axis=1)
+    rows = np.arange(len(test))
+    summary = nearest_view_baseline(quick_root, "chess")
+    assert summary["position_m"]["median"] == pytest.approx(np.median(metres[rows, nearest]))
+    assert summary["orientation_deg"]["median"] == pytest.approx(
+        np.median(degrees[rows, nearest]), abs=1e-4
+    )
+    # an oracle that sees the test poses beats predicting the mean training pose
+    assert summary["position_m"]["median"] < mean_pose_baseline(quick_root, "chess")[
+        "position_m"
+    ]["median"]
+    # weighing orientation only, it finds the best orientation of any training frame
+    by_angle = nearest_view_baseline(quick_root, "chess", degrees_per_metre=1e-9)
+    assert by_angle["orientation_deg"]["median"] == pytest.approx(
+        np.median(degrees.min(axis=1)), abs=1e-4
+    )
+    with pytest.raises(ValueError, match="degrees_per_metre"):
+        nearest_view_baseline(quick_root, "chess", degrees_per_metre=0)
 
 
 def test_condition_roots(tmp_path: Path) -> None:

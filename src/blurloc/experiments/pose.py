@@ -213,6 +213,54 @@ def mean_pose_baseline(root: str | os.PathLike, scene: str) -> dict:
     return pose_summary(pair)
 
 
+#: Degrees of orientation error that :func:`nearest_view_baseline` weighs like one metre of
+#: position error: about the ratio of the real 7-Scenes mean-pose baselines (0.8 m to 32°).
+DEGREES_PER_METRE = 30.0
+
+
+def nearest_view_baseline(
+    root: str | os.PathLike, scene: str, degrees_per_metre: float = DEGREES_PER_METRE
+) -> dict:
+    """Errors of predicting, for every test frame, the pose of the training frame nearest to it.
+
+    Nearest in pose: the smallest position error (m) plus orientation error (degrees) divided by
+    ``degrees_per_metre``. An oracle (it reads the test poses to choose), so not a method: it
+    says how far the test views lie from any view the training split holds. A regressor that
+    only interpolates between training views can hardly beat it; a test split that leaves the
+    region its training split covers shows a large value here, whatever the network.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        The 7-Scenes-layout root.
+    scene : str
+        Scene name.
+    degrees_per_metre : float
+        Orientation error equivalent to one metre of position error (> 0).
+
+    Returns
+    -------
+    dict
+        :func:`~blurloc.metrics.pose_summary` of the test frames against their nearest training
+        poses.
+    """
+    if not degrees_per_metre > 0:
+        raise ValueError(f"degrees_per_metre must be > 0, got {degrees_per_metre}")
+    train = np.concatenate([s.poses() for s in load_split(root, scene, "train")])
+    test = np.concatenate([s.poses() for s in load_split(root, scene, "test")])
+    train_q = to_quaternions(Rotation.from_matrix(train[:, :3, :3]))
+    test_q = to_quaternions(Rotation.from_matrix(test[:, :3, :3]))
+    nearest = np.empty(len(test), int)
+    for start in range(0, len(test), 256):  # (256, N) distances at a time: bounded memory
+        part = slice(start, start + 256)
+        metres = np.linalg.norm(test[part, None, :3, 3] - train[None, :, :3, 3], axis=2)
+        cosine = np.clip(np.abs(test_q[part] @ train_q.T), 0.0, 1.0)
+        degrees = np.degrees(2.0 * np.arccos(cosine))
+        nearest[part] = np.argmin(metres + degrees / degrees_per_metre, axis=1)
+    pair = PosePair(test[:, :3, 3], test_q, train[nearest, :3, 3], train_q[nearest])
+    return pose_summary(pair)
+
+
 def baseline_beside_real(root: str | os.PathLike) -> list[dict]:
     """The mean-pose baseline of every scene under ``root`` beside the real 7-Scenes one.
 
