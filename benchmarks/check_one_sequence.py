@@ -84,18 +84,19 @@ def main() -> None:
             rows.append((scene, seed, float(np.median(predicted["position_error"])),
                          float(np.median(predicted["orientation_error"])),
                          baseline["position_m"]["median"], baseline["orientation_deg"]["median"],
-                         seconds))  # fmt: skip
+                         near, nearest["orientation_deg"]["median"], seconds))  # fmt: skip
             print(rows[-1], flush=True)
 
     print(
         "\n| scene | seed | position (m) | orientation (°) | mean pose (m / °) | ratio position "
-        "| ratio orientation | training (s) |\n|---|---|---|---|---|---|---|---|"
+        "| ratio orientation | nearest training view (m / °) | training (s) |\n"
+        "|---|---|---|---|---|---|---|---|---|"
     )
-    for scene, seed, position, orientation, base_pos, base_rot, seconds in rows:
+    for scene, seed, position, orientation, base_pos, base_rot, near_pos, near_rot, seconds in rows:
         print(
             f"| {scene} | {seed} | {position:.3f} | {orientation:.2f} | {base_pos:.3f} / "
             f"{base_rot:.1f} | {position / base_pos:.2f} | {orientation / base_rot:.2f} | "
-            f"{seconds:.0f} |"
+            f"{near_pos:.3f} / {near_rot:.1f} | {seconds:.0f} |"
         )
 
 

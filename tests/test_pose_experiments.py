@@ -52,10 +52,11 @@ def test_mean_pose_baseline_against_a_hand_computation(quick_root: Path) -> None
 def test_nearest_view_baseline_picks_the_nearest_training_pose(quick_root: Path) -> None:
     train = np.concatenate([s.poses() for s in load_split(quick_root, "chess", "train")])
     test = np.concatenate([s.poses() for s in load_split(quick_root, "chess", "test")])
-    relative = Rotation.from_matrix(test[:, None, :3, :3]).inv()  # (M, 1) against (N,)
-    degrees = np.degrees((relative * Rotation.from_matrix(train[:, :3, :3])).magnitude())
+    train_rotations = Rotation.from_matrix(train[:, :3, :3])
+    degrees = np.stack([np.degrees((Rotation.from_matrix(pose[:3, :3]).inv()
+                                    * train_rotations).magnitude()) for pose in test])  # fmt: skip
     metres = np.linalg.norm(test[:, None, :3, 3] - train[None, :, :3, 3], axis=2)
-    nearest = np.argmin(metres + degrees / 30.0, axis=1)
+    nearest = np.argmin(metres + degrees / pose_experiments.DEGREES_PER_METRE, axis=1)
     rows = np.arange(len(test))
     summary = nearest_view_baseline(quick_root, "chess")
     assert summary["position_m"]["median"] == pytest.approx(np.median(metres[rows, nearest]))

@@ -19,6 +19,7 @@ from blurloc.data import (
     read_image,
     read_pose,
     read_split,
+    split_one_sequence,
 )
 from blurloc.files import link_or_copy
 from blurloc.geometry import quaternion_to_rotation
@@ -235,3 +236,26 @@ def test_link_or_copy_carries_a_file_over_and_replaces_the_target(tmp_path: Path
     link_or_copy(source, target)
     assert target.read_text() == "pose"
     assert target.stat().st_ino == source.stat().st_ino  # a hard link on this file system
+
+
+def test_one_recording_is_cut_into_a_training_and_a_test_sequence(
+    quick_root: Path, tmp_path: Path
+) -> None:
+    (train_sequence,) = load_split(quick_root, "chess", "train")
+    root = split_one_sequence(train_sequence.folder, tmp_path / "cut", "chess", 6)
+    (train,), (test,) = load_split(root, "chess", "train"), load_split(root, "chess", "test")
+    assert (len(train), len(test)) == (6, 2)
+    np.testing.assert_array_equal(test.poses(), train_sequence.poses()[6:])
+    np.testing.assert_array_equal(read_image(test.path(1, "sharp")),
+                                  read_image(train_sequence.path(7, "sharp")))  # fmt: skip
+    assert not list((tmp_path / "cut").glob(".*partial"))
+    with pytest.raises(DataError, match="already exists"):
+        split_one_sequence(train_sequence.folder, root, "chess", 6)
+    with pytest.raises(DataError, match="cannot be cut"):
+        split_one_sequence(train_sequence.folder, tmp_path / "other", "chess", 7)
+    with pytest.raises(DataError, match="stand-in root"):
+        split_one_sequence(train_sequence.folder, quick_root, "cut", 4)
+    odd = tmp_path / "odd" / "chess" / "seq-001"
+    shutil.copytree(train_sequence.folder, odd)
+    with pytest.raises(DataError, match="seq-XX"):
+        split_one_sequence(odd, tmp_path / "other", "chess", 4)

@@ -23,7 +23,7 @@ import cv2
 import numpy as np
 from tqdm.auto import tqdm
 
-from ..files import decode_image
+from ..files import decode_image, link_or_copy
 from ..geometry import rotation_defect
 
 SPLIT_FILES = {"train": "TrainSplit.txt", "test": "TestSplit.txt"}
@@ -320,16 +320,19 @@ def split_one_sequence(
     How a single long recording (a real 1000-frame 7-Scenes sequence, or one of the stand-in's)
     becomes something ``blurloc train-pose`` can learn from and be tested on: its first
     ``train_frames`` frames become ``<scene>/seq-01`` (TrainSplit.txt), the rest
-    ``<scene>/seq-02`` (TestSplit.txt), numbered from 0 again. Files are hard-linked where the
-    file system allows it, copied otherwise; every kind of file a frame has (colour, sharp,
-    depth, pose) goes along.
+    ``<scene>/seq-02`` (TestSplit.txt), numbered from 0 again. Each frame's files (colour,
+    sharp, depth, pose, whichever exist) are hard-linked where the file system allows it, copied
+    otherwise: a hard link shares the source's data, so never edit the cut's files in place. The
+    stand-in's ``blur.csv`` is not carried over. The scene is written under a temporary name and
+    renamed when complete, so an interrupted cut leaves no half-written scene behind.
 
     Parameters
     ----------
     sequence_folder : str or os.PathLike
         A ``seq-XX`` folder of a 7-Scenes-layout root.
     out_root : str or os.PathLike
-        The root to write (created; an existing ``<scene>`` folder in it is refused).
+        The root to write (created). It must not be a stand-in (``standin.json``) nor hold
+        ``<scene>`` already.
     scene : str
         Scene folder name to write under ``out_root``.
     train_frames : int
@@ -343,33 +346,38 @@ def split_one_sequence(
     Raises
     ------
     DataError
-        Naming the folder: no frames, a colour frame without its pose, too few frames for the
-        cut, or an existing scene folder in ``out_root``.
+        Naming the folder: not a ``seq-XX`` folder, no frames, a colour frame without its pose,
+        too few frames for the cut, an existing scene folder or a stand-in manifest in
+        ``out_root``.
     """
+    from .synth import STANDIN_MANIFEST
+
     source = Path(sequence_folder)
     match = re.match(r"^seq-(\d+)$", source.name)
-    if not match:
-        raise DataError(f"{source}: expected a seq-XX folder")
+    if not match or source.name != f"seq-{int(match.group(1)):02d}":
+        raise DataError(f"{source}: expected a seq-XX folder (seq-01, seq-02, ...)")
     sequence = list_sequence(source.parent, int(match.group(1)))
     if not 2 <= train_frames <= len(sequence) - 2:
         raise DataError(f"{source}: {len(sequence)} frames cannot be cut after frame "
                         f"{train_frames} (both parts need at least two)")  # fmt: skip
-    scene_dir = Path(out_root) / scene
+    out_root = Path(out_root)
+    if (out_root / STANDIN_MANIFEST).exists():
+        raise DataError(f"{out_root}: a stand-in root ({STANDIN_MANIFEST}); cut into another")
+    scene_dir = out_root / scene
     if scene_dir.exists():
         raise DataError(f"{scene_dir}: already exists; choose another root or remove it")
+    partial = out_root / f".{scene}.partial"
+    shutil.rmtree(partial, ignore_errors=True)
     parts = {1: sequence.frame_ids[:train_frames], 2: sequence.frame_ids[train_frames:]}
     for number, frame_ids in parts.items():
-        folder = scene_dir / f"seq-{number:02d}"
+        folder = partial / f"seq-{number:02d}"
         folder.mkdir(parents=True)
         for new_id, frame_id in enumerate(frame_ids):
             for kind in ("color", "sharp", "depth", "pose"):
                 origin = sequence.path(frame_id, kind)
                 if origin.is_file():
-                    target = frame_path(folder, new_id, kind)
-                    try:
-                        os.link(origin, target)
-                    except OSError:
-                        shutil.copyfile(origin, target)
-    (scene_dir / SPLIT_FILES["train"]).write_text("sequence1\n")
-    (scene_dir / SPLIT_FILES["test"]).write_text("sequence2\n")
-    return Path(out_root)
+                    link_or_copy(origin, frame_path(folder, new_id, kind))
+    (partial / SPLIT_FILES["train"]).write_text("sequence1\n")
+    (partial / SPLIT_FILES["test"]).write_text("sequence2\n")
+    partial.rename(scene_dir)
+    return out_root
