@@ -184,6 +184,12 @@ def model_folder(
     return Path(out_dir) / condition / head / scene / f"seed-{seed}"
 
 
+def _split_poses(root: str | os.PathLike, scene: str) -> tuple[np.ndarray, np.ndarray]:
+    """Camera-to-world poses (N, 4, 4) of a scene's training and of its test split."""
+    return tuple(np.concatenate([s.poses() for s in load_split(root, scene, split)])
+                 for split in ("train", "test"))  # fmt: skip
+
+
 def mean_pose_baseline(root: str | os.PathLike, scene: str) -> dict:
     """Errors of predicting one pose, the mean of the training poses, for every test frame.
 
@@ -203,8 +209,7 @@ def mean_pose_baseline(root: str | os.PathLike, scene: str) -> dict:
     dict
         :func:`~blurloc.metrics.pose_summary` of the test frames against that constant pose.
     """
-    train = np.concatenate([s.poses() for s in load_split(root, scene, "train")])
-    test = np.concatenate([s.poses() for s in load_split(root, scene, "test")])
+    train, test = _split_poses(root, scene)
     reference = Rotation.from_matrix(test[:, :3, :3])
     mean_q = to_quaternions(Rotation.from_matrix(train[:, :3, :3]).mean())
     pair = PosePair(test[:, :3, 3], to_quaternions(reference),
@@ -252,8 +257,7 @@ def nearest_view_baseline(
     """
     if not degrees_per_metre > 0:
         raise ValueError(f"degrees_per_metre must be > 0, got {degrees_per_metre}")
-    train = np.concatenate([s.poses() for s in load_split(root, scene, "train")])
-    test = np.concatenate([s.poses() for s in load_split(root, scene, "test")])
+    train, test = _split_poses(root, scene)
     train_q = to_quaternions(Rotation.from_matrix(train[:, :3, :3]))
     test_q = to_quaternions(Rotation.from_matrix(test[:, :3, :3]))
     nearest = np.empty(len(test), int)
