@@ -13,10 +13,12 @@ depth) of the estimate and of the variance of the Laplacian. ROOT is a rendered 
 given and on blurred photographs (``photo_training_set``), writes it to
 ``blurloc.blur.LENGTH_MODEL_PATH`` and prints the detector threshold chosen on the stand-in's
 training examples at their own scale (frames with >= 3 px against sharp renders and frames under
-1 px). The shipped model: ``--fit data/standin ROOT640 --budget 6000``, where ``data/standin``
-is the full default render (notebook 00; about 6,000 of its training frames are read) and
-ROOT640 holds 640x480 renders (``blurloc synth --out ROOT640 --width 640 --height 480 --frames
-12 --scenes chess office``), so that the model sees both scales.
+1.5 px, the two sharp groups counted equally). The shipped model: ``--fit data/standin ROOT640
+ROOT640B --budget 6000``, where ``data/standin`` is the full default render (notebook 00; about
+6,000 of its training frames are read), ROOT640 holds 640x480 renders of two scenes (``blurloc
+synth --out ROOT640 --width 640 --height 480 --frames 12 --scenes chess office``) and ROOT640B
+of all seven with another seed (``blurloc synth --out ROOT640B --width 640 --height 480 --frames
+16 --seed 1``), so that the model sees both scales.
 """
 
 from __future__ import annotations
@@ -49,8 +51,9 @@ def fit(roots: list[str], budget: int | None) -> None:
                              np.concatenate([extents, photo_extents]))  # fmt: skip
     model.save(LENGTH_MODEL_PATH)
     scores = np.maximum(model.predict(features), 0.0)
-    keep = ((extents >= 3) | (extents < 1)) & (features[:, -1] == 0)  # analysis scale = image's
-    threshold = calibrate_blur_threshold(scores[keep], extents[keep] >= 3)
+    keep = ((extents >= 3) | (extents < 1.5)) & (features[:, -1] == 0)  # analysis = image scale
+    threshold = calibrate_blur_threshold(scores[keep], extents[keep] >= 3,
+                                         sharp_groups=extents[keep] > 0)  # fmt: skip
     print(f"length model fitted on {len(extents)} training examples of {', '.join(roots)} and "
           f"{len(photo_extents)} blurred photographs, written to {LENGTH_MODEL_PATH}; detector "
           f"threshold {threshold:.2f} px")

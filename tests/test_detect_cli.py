@@ -87,14 +87,20 @@ def test_detector_tells_sharp_from_blurred_standin_frames(blurry_root: Path) -> 
 
 
 def test_threshold_calibration() -> None:
-    scores = np.array([1.0, 2.0, 3.0, 6.0, 7.0, 2.5])
-    labels = np.array([False, False, False, True, True, True])
-    threshold = calibrate_blur_threshold(scores, labels)
-    # cut at 2.25: all blurred above, 2 of 3 sharp below (balanced accuracy 0.92 beats 0.83
-    # for a cut between 3 and 6, which loses the blurred 2.5)
-    assert threshold == pytest.approx(2.25)
+    renders = [0.5, 0.6, 0.7, 0.8]  # sharp renders
+    barely = [1.8, 2.2]  # frames with under 1.5 px of blur: also sharp
+    blurred = [2.0, 3.0, 4.0, 5.0, 6.0]
+    scores = np.array(renders + barely + blurred)
+    labels = np.array([False] * 6 + [True] * 5)
+    # pooled: the cut at 1.9 flags every blurred frame and passes 5 of 6 sharp ones (1 + 5/6
+    # beats 4/5 + 1 for a cut at 2.6)
+    assert calibrate_blur_threshold(scores, labels) == pytest.approx(1.9)
+    # the two sharp groups counted equally: passing both barely blurred frames is now worth more
+    # (4/5 + 1 beats 1 + (1 + 1/2) / 2)
+    groups = np.array([0] * 4 + [1] * 2 + [0] * 5)
+    assert calibrate_blur_threshold(scores, labels, sharp_groups=groups) == pytest.approx(2.6)
     with pytest.raises(ValueError, match="both blurred and sharp"):
-        calibrate_blur_threshold(scores, np.ones(6, bool))
+        calibrate_blur_threshold(scores, np.ones(11, bool))
 
 
 def test_blind_deblurring_leaves_sharp_images_and_restores_blurred_ones() -> None:

@@ -203,16 +203,44 @@ def estimate_noise_sigma(image: np.ndarray) -> float:
 MIN_ANALYSIS_SIDE = 16
 
 
-def calibrate_blur_threshold(scores: np.ndarray, blurred: np.ndarray) -> float:
-    """The threshold that maximises balanced accuracy (mean of the true-positive and
-    true-negative rates) on labelled scores: midway between the two scores around the cut."""
+def calibrate_blur_threshold(
+    scores: np.ndarray, blurred: np.ndarray, sharp_groups: np.ndarray | None = None
+) -> float:
+    """The threshold that maximises balanced accuracy on labelled scores: the mean of the share
+    of blurred examples flagged and the share of sharp examples passed; midway between the two
+    scores around the cut.
+
+    Parameters
+    ----------
+    scores : numpy.ndarray
+        (N,) blur scores (:func:`blur_score`).
+    blurred : numpy.ndarray
+        (N,) bool, True for blurred examples; both classes must be present.
+    sharp_groups : numpy.ndarray, optional
+        (N,) group of each example (read for the sharp ones only). When given, the share of sharp
+        examples passed is the mean over the groups of each group's share, so that a small group
+        (frames with a little blur) counts as much as a large one (sharp renders).
+
+    Returns
+    -------
+    float
+        The threshold, px.
+    """
     scores, blurred = np.asarray(scores, float), np.asarray(blurred, bool)
     if blurred.all() or not blurred.any():
         raise ValueError("calibration needs both blurred and sharp examples")
+    groups = np.zeros(len(scores), int) if sharp_groups is None else np.asarray(sharp_groups)
+    sharp_sets = [scores[~blurred & (groups == g)] for g in np.unique(groups[~blurred])]
     candidates = np.sort(scores)
     cuts = (candidates[:-1] + candidates[1:]) / 2
-    accuracy = [detection_rates(scores, blurred, c)[2] for c in cuts]
-    return float(cuts[int(np.argmax(accuracy))])
+
+    def share_at_or_below(values: np.ndarray) -> np.ndarray:
+        return np.searchsorted(np.sort(values), cuts, side="right") / len(values)
+
+    flagged = 1.0 - share_at_or_below(scores[blurred])
+    passed = np.mean([share_at_or_below(group) for group in sharp_sets], axis=0)
+    balanced = np.round(flagged + passed, 12)  # exact ties go to the lowest cut
+    return float(cuts[int(np.argmax(balanced))])
 
 
 def detection_rates(
@@ -334,8 +362,9 @@ def _analyse(gray: np.ndarray, window: int, around_deg: float) -> tuple[float, f
 
 
 #: Short side (px) of the copy of an image on which :func:`blur_features` measures the spectrum
-#: (larger images are area-averaged down to it; lengths are scaled back).
-ANALYSIS_SIDE = 120
+#: (larger images are area-averaged down to it; lengths are scaled back). 160x120 frames are
+#: measured as they are; a 640x480 frame at half size, so that 3 px of its blur are still 1.5 px.
+ANALYSIS_SIDE = 240
 _TILE = 64  # Welch tile (px) at the analysis scale
 _ANGLES, _RADII = 36, 14  # polar bins of the half-plane spectrum: 5° sectors, log-spaced rings
 #: Length model shipped with the package: :func:`fit_length_model` on the stand-in's training
@@ -404,11 +433,12 @@ class BlurFeatures:
 
 
 def blur_features(image: np.ndarray) -> BlurFeatures:
-    """Spectral and gradient features of an image, for blur of about 1-15 px at 160x120.
+    """Spectral and gradient features of an image, for blur of about 1-15 px at 160x120 and
+    2-40 px at 640x480.
 
-    The image is area-averaged to a short side of ANALYSIS_SIDE px; its Welch power spectrum
-    (Hann tiles of 64 px, half overlap) minus the white-noise floor (Immerkær's σ of the gray
-    image) is averaged in 36 direction sectors x 14 log-spaced rings. Blur of length L along d
+    An image whose short side exceeds ANALYSIS_SIDE px is area-averaged to it; the Welch power
+    spectrum (Hann tiles of 64 px, half overlap) minus the white-noise floor (Immerkær's σ of the
+    gray image) is averaged in 36 direction sectors x 14 log-spaced rings. Blur of length L along d
     multiplies the spectrum by |sinc(L f·d)|^2, so the power falls off fastest along d: the
     direction is the phase of the second angular harmonic of each sector's fall-off (log power in
     the lowest third of the rings minus the highest half). The radial profiles along d, across d
@@ -479,48 +509,102 @@ def blur_features(image: np.ndarray) -> BlurFeatures:
     return BlurFeatures(values, angle, anisotropy, scale)
 
 
+Layers = tuple[tuple[np.ndarray, np.ndarray], ...]
+
+
+def _perceptron(layers: Layers, inputs: np.ndarray) -> np.ndarray:
+    """Output (N,) of one tanh perceptron (each layer's weight (out, in) and bias (out,))."""
+    hidden = inputs
+    for number, (weight, bias) in enumerate(layers):
+        hidden = hidden @ weight.T + bias
+        if number < len(layers) - 1:
+            hidden = np.tanh(hidden)
+    return hidden[:, 0]
+
+
 @dataclass(frozen=True)
 class LengthModel:
-    """A small multilayer perceptron from :func:`blur_features` values to the blur extent (px at
-    the analysis scale): standardised features, tanh hidden layers, one linear output.
+    """Small multilayer perceptrons from :func:`blur_features` values to the blur extent (px at
+    the analysis scale), averaged: standardised features, tanh hidden layers, one linear output.
 
-    ``mean`` and ``spread`` (k,) standardise the features; ``layers`` holds each layer's weight
-    (out, in) and bias (out,).
+    ``mean`` and ``spread`` (k,) standardise the features; ``members`` holds, for each
+    perceptron, each layer's weight (out, in) and bias (out,).
     """
 
     mean: np.ndarray
     spread: np.ndarray
-    layers: tuple[tuple[np.ndarray, np.ndarray], ...]
+    members: tuple[Layers, ...]
 
     def predict(self, values: np.ndarray) -> np.ndarray:
-        """Extents (N,) in px at the analysis scale from feature values (N, k) or (k,)."""
-        hidden = (np.atleast_2d(values) - self.mean) / self.spread
-        for number, (weight, bias) in enumerate(self.layers):
-            hidden = hidden @ weight.T + bias
-            if number < len(self.layers) - 1:
-                hidden = np.tanh(hidden)
-        return hidden[:, 0]
+        """Extents (N,) in px at the analysis scale from feature values (N, k) or (k,): the
+        mean of the members' outputs."""
+        inputs = (np.atleast_2d(values) - self.mean) / self.spread
+        return np.mean([_perceptron(layers, inputs) for layers in self.members], axis=0)
 
     def save(self, path: str | os.PathLike) -> None:
         """Write the model to an ``.npz`` file."""
         arrays = {"mean": self.mean, "spread": self.spread}
-        for number, (weight, bias) in enumerate(self.layers):
-            arrays[f"weight{number}"], arrays[f"bias{number}"] = weight, bias
+        for member, layers in enumerate(self.members):
+            for number, (weight, bias) in enumerate(layers):
+                arrays[f"member{member}_weight{number}"] = weight
+                arrays[f"member{member}_bias{number}"] = bias
         np.savez(path, **arrays)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> LengthModel:
         """Read a model written by :meth:`save`."""
         with np.load(path) as arrays:
-            count = sum(name.startswith("weight") for name in arrays.files)
-            layers = tuple((arrays[f"weight{n}"], arrays[f"bias{n}"]) for n in range(count))
-            return cls(arrays["mean"], arrays["spread"], layers)
+            names = arrays.files
+            count = len({name.split("_")[0] for name in names if name.startswith("member")})
+            members = []
+            for member in range(count):
+                depth = sum(name.startswith(f"member{member}_weight") for name in names)
+                members.append(tuple((arrays[f"member{member}_weight{n}"],
+                                      arrays[f"member{member}_bias{n}"])
+                                     for n in range(depth)))  # fmt: skip
+            return cls(arrays["mean"], arrays["spread"], tuple(members))
 
 
 @functools.cache
 def default_length_model() -> LengthModel:
     """The shipped length model (LENGTH_MODEL_PATH), read once."""
     return LengthModel.load(LENGTH_MODEL_PATH)
+
+
+def _fit_perceptron(
+    inputs: np.ndarray,
+    extents: np.ndarray,
+    hidden: int,
+    steps: int,
+    weight_decay: float,
+    seed: int,
+) -> Layers:
+    """One two-hidden-layer tanh perceptron fitted by full-batch Adam (least squares)."""
+    import torch
+
+    generator = torch.Generator().manual_seed(seed)
+    sizes = (inputs.shape[1], hidden, hidden, 1)
+    linear = [torch.nn.Linear(a, b) for a, b in itertools.pairwise(sizes)]
+    with torch.no_grad():
+        for layer in linear:  # PyTorch's default initialisation, drawn from our generator
+            bound = 1.0 / np.sqrt(layer.in_features)
+            layer.weight.uniform_(-bound, bound, generator=generator)
+            layer.bias.uniform_(-bound, bound, generator=generator)
+    network = torch.nn.Sequential(linear[0], torch.nn.Tanh(), linear[1], torch.nn.Tanh(),
+                                  linear[2])  # fmt: skip
+    inputs_t = torch.tensor(inputs, dtype=torch.float32)
+    target = torch.tensor(extents, dtype=torch.float32)
+    optimiser = torch.optim.Adam(network.parameters(), lr=1e-2, weight_decay=weight_decay)
+    for _ in range(steps):
+        optimiser.zero_grad()
+        loss = ((network(inputs_t).squeeze(1) - target) ** 2).mean()
+        loss.backward()
+        optimiser.step()
+    return tuple(
+        (layer.weight.detach().numpy().astype(np.float64),
+         layer.bias.detach().numpy().astype(np.float64))
+        for layer in linear
+    )  # fmt: skip
 
 
 def fit_length_model(
@@ -530,8 +614,12 @@ def fit_length_model(
     steps: int = 1000,
     weight_decay: float = 1e-3,
     seed: int = 0,
+    members: int = 5,
 ) -> LengthModel:
-    """Fit the length model: a two-hidden-layer tanh perceptron, least squares, full-batch Adam.
+    """Fit the length model: ``members`` two-hidden-layer tanh perceptrons, each by least
+    squares with full-batch Adam from its own initial weights, whose outputs are averaged (a
+    seed ensemble: one perceptron's estimates depend on its initial weights as much as the
+    features allow, and the mean of several varies less).
 
     Parameters
     ----------
@@ -546,46 +634,28 @@ def fit_length_model(
     weight_decay : float
         L2 penalty on the weights (Adam's ``weight_decay``).
     seed : int
-        Seed of the initial weights.
+        Seed of the first member's initial weights (member m uses ``seed + m``).
+    members : int
+        Number of perceptrons averaged.
 
     Returns
     -------
     LengthModel
         The fitted model.
     """
-    import torch
-
     features = np.asarray(features, np.float64)
     extents = np.asarray(extents_px, np.float64)
     if features.ndim != 2 or len(features) != len(extents) or len(extents) < 2:
         raise ValueError("features must be (N, k) and extents (N,), N >= 2")
     if not (np.isfinite(features).all() and np.isfinite(extents).all()):
         raise ValueError("features and extents must be finite")
+    if members < 1:
+        raise ValueError(f"members must be >= 1, got {members}")
     mean, spread = features.mean(axis=0), features.std(axis=0) + 1e-9
-    generator = torch.Generator().manual_seed(seed)
-    sizes = (features.shape[1], hidden, hidden, 1)
-    linear = [torch.nn.Linear(a, b) for a, b in itertools.pairwise(sizes)]
-    with torch.no_grad():
-        for layer in linear:  # PyTorch's default initialisation, drawn from our generator
-            bound = 1.0 / np.sqrt(layer.in_features)
-            layer.weight.uniform_(-bound, bound, generator=generator)
-            layer.bias.uniform_(-bound, bound, generator=generator)
-    network = torch.nn.Sequential(linear[0], torch.nn.Tanh(), linear[1], torch.nn.Tanh(),
-                                  linear[2])  # fmt: skip
-    inputs = torch.tensor((features - mean) / spread, dtype=torch.float32)
-    target = torch.tensor(extents, dtype=torch.float32)
-    optimiser = torch.optim.Adam(network.parameters(), lr=1e-2, weight_decay=weight_decay)
-    for _ in range(steps):
-        optimiser.zero_grad()
-        loss = ((network(inputs).squeeze(1) - target) ** 2).mean()
-        loss.backward()
-        optimiser.step()
-    layers = tuple(
-        (layer.weight.detach().numpy().astype(np.float64),
-         layer.bias.detach().numpy().astype(np.float64))
-        for layer in linear
-    )  # fmt: skip
-    return LengthModel(mean, spread, layers)
+    inputs = (features - mean) / spread
+    fitted = tuple(_fit_perceptron(inputs, extents, hidden, steps, weight_decay, seed + member)
+                   for member in range(members))  # fmt: skip
+    return LengthModel(mean, spread, fitted)
 
 
 def length_from_features(features: BlurFeatures, model: LengthModel | None = None) -> float:
@@ -595,10 +665,11 @@ def length_from_features(features: BlurFeatures, model: LengthModel | None = Non
     return max(float(model.predict(features.values)[0]), 0.0) * features.scale
 
 
-#: Estimated length (px) above which :func:`detect_blur` calls an image blurred. Chosen by
-#: :func:`calibrate_blur_threshold` on the stand-in's training split (frames with >= 3 px of
-#: blur against sharp renders and frames under 1 px; notebook 01 recomputes it).
-BLUR_THRESHOLD = 1.71
+#: Estimated length (px) above which :func:`detect_blur` calls an image blurred, and at or below
+#: which the estimator reports it sharp. Chosen by :func:`calibrate_blur_threshold` on the
+#: stand-in's training split (frames with >= 3 px of blur against sharp renders and frames under
+#: 1.5 px, each of the two sharp groups counted equally; notebook 01 recomputes it).
+BLUR_THRESHOLD = 2.45
 
 
 def blur_score(image: np.ndarray) -> float:

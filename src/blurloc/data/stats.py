@@ -91,13 +91,17 @@ def read_blur_metadata(root: str | os.PathLike) -> list[dict]:
 
 
 def blur_detection_samples(
-    root: str | os.PathLike, split: str, min_blur_px: float = 3.0, budget: int | None = None
+    root: str | os.PathLike,
+    split: str,
+    min_blur_px: float = 3.0,
+    budget: int | None = None,
+    sharp_below_px: float = 1.5,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Detector scores of a stand-in split's frames.
 
-    For each frame read, its sharp render (labelled sharp) and, when its mean blur extent is
-    >= ``min_blur_px``, its stored blurred frame (labelled blurred); frames with less blur are
-    left out of the blurred class.
+    For each frame read, its sharp render (labelled sharp) and its stored frame: labelled
+    blurred when its mean blur extent is >= ``min_blur_px``, sharp when it is under
+    ``sharp_below_px`` (so little blur that deblurring cannot help), left out in between.
 
     Parameters
     ----------
@@ -110,6 +114,8 @@ def blur_detection_samples(
     budget : int or None
         About how many frames of the split to read, spread evenly
         (:func:`~blurloc.data.samples.split_frames`); None reads every frame.
+    sharp_below_px : float
+        Stored frames with less blur than this (px) are sharp examples.
 
     Returns
     -------
@@ -133,8 +139,8 @@ def blur_detection_samples(
         scores.append(blur_score(read_image(sequence.path(frame, "sharp"))))
         labels.append(False)
         lengths.append(0.0)
-        if extent >= min_blur_px:
+        if extent >= min_blur_px or extent < sharp_below_px:
             scores.append(blur_score(read_image(sequence.path(frame, "color"))))
-            labels.append(True)
+            labels.append(extent >= min_blur_px)
             lengths.append(extent)
     return np.array(scores), np.array(labels), np.array(lengths)

@@ -29,9 +29,6 @@ from ..geometry import intrinsics
 from ..poses import rotation_angles_deg
 from .estimation import angle_error_deg
 
-#: Estimated lengths below this (px) are reported as sharp (the deblurring pipeline's cut).
-SHARP_BELOW_PX = 1.5
-
 
 def _frames(
     root: str | os.PathLike, split: str, budget: int | None = None
@@ -196,7 +193,8 @@ def estimation_rows(
         (recorded mean path length; 0 for sharp renders), angle_deg (recorded), estimated_length_px,
         estimated_angle_deg, length_error_px, angle_error_deg, score
         (:func:`~blurloc.blur.blur_score`: the coarse length), flagged (score above
-        BLUR_THRESHOLD), reported_sharp (estimate below SHARP_BELOW_PX).
+        BLUR_THRESHOLD; the deblurring pipeline's cut), reported_sharp (estimated length at
+        most BLUR_THRESHOLD).
     """
     rows = []
     kinds = ("color", "sharp") if sharp_renders else ("color",)
@@ -216,7 +214,7 @@ def estimation_rows(
                 "length_error_px": abs(estimate.length_px - extent),
                 "angle_error_deg": float(angle_error_deg(estimate.angle_deg, record["angle_deg"])),
                 "score": score, "flagged": score > BLUR_THRESHOLD,
-                "reported_sharp": estimate.length_px < SHARP_BELOW_PX,
+                "reported_sharp": estimate.length_px <= BLUR_THRESHOLD,
             })  # fmt: skip
     return rows
 

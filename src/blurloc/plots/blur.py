@@ -146,7 +146,7 @@ def plot_detection(
     scores : dict
         ``{panel title: (scores (N,), labels (N,) bool, True = blurred)}``, one panel each.
     threshold : float
-        The detector's threshold on the score ln(P_mid / P_high).
+        The detector's threshold on the score (the coarse estimated blur length, px).
 
     Returns
     -------
@@ -155,13 +155,15 @@ def plot_detection(
     figure, axes = plt.subplots(1, len(scores), figsize=(5 * len(scores), 3), sharex=True)
     for axis, (name, (values, labels)) in zip(np.atleast_1d(axes), scores.items(), strict=True):
         bins = np.linspace(min(values.min(), threshold) - 0.5, values.max() + 0.5, 40)
-        axis.hist(values[~labels], bins, alpha=0.6, color="#1f77b4", label="sharp render")
+        axis.hist(
+            values[~labels], bins, alpha=0.6, color="#1f77b4", label="sharp (render, or < 1.5 px)"
+        )
         axis.hist(values[labels], bins, alpha=0.6, color="#d62728", label="blurred (≥ 3 px)")
         axis.axvline(threshold, color="k", lw=1.2, label=f"threshold {threshold:.2f}")
         hit = (values[labels] > threshold).mean()
         correct_sharp = (values[~labels] <= threshold).mean()
         axis.set_title(f"{name}: {hit:.0%} of blurred, {correct_sharp:.0%} of sharp right")
-        axis.set_xlabel("blur score ln(P_mid / P_high)")
+        axis.set_xlabel("blur score: estimated blur length (px)")
         axis.legend(fontsize=7)
     return figure
 
