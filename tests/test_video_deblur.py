@@ -40,13 +40,20 @@ def test_default_network_is_small_and_has_no_transposed_convolution() -> None:
     assert parameter_count(single) >= 0.75 * parameter_count(model)
 
 
+@pytest.mark.parametrize("stride", [4, 2])
 @pytest.mark.parametrize(("height", "width"), [(120, 160), (37, 53), (4, 4)])
-def test_any_frame_size_is_restored_to_the_same_size(height: int, width: int) -> None:
-    model = VideoDeblurNet().eval()
+def test_any_frame_size_is_restored_to_the_same_size(height: int, width: int, stride: int) -> None:
+    model = VideoDeblurNet(VideoDeblurConfig(feature_stride=stride)).eval()
     frames = torch.rand(2, 3, 3, height, width) * 2 - 1
     with torch.no_grad():
-        restored, _ = model(frames)
+        restored, (hidden, _, _) = model(frames)
     assert restored.shape == frames.shape
+    assert hidden.shape[-2:] == (-(-height // stride), -(-width // stride))
+
+
+def test_feature_stride_must_be_two_or_four() -> None:
+    with pytest.raises(ValueError, match="feature_stride must be 2 or 4, got 3"):
+        VideoDeblurConfig(feature_stride=3)
 
 
 def test_output_is_a_residual_on_the_blurred_frame() -> None:

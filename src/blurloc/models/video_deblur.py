@@ -7,13 +7,13 @@ After the Recurrence-in-Recurrence network of Park et al. (2022), at CPU scale::
     f~_t      = w~_{t-1} * f~_{t-1} + w_t * f_t                   (eq. 10) adaptive blending
     L_t       = B_t + Rec(f_t, h_t, f~_t, h~_t)                   (eq. 11) residual output
 
-The features live at quarter resolution (two stride-2 convolutions, for CPU speed); the
-reconstructor upsamples by pixel shuffle (no transposed convolution, so no checkerboard) and
-merges with shallow full-resolution features of B_t (the detail a residual needs). The
-blending weights w_t and w~_{t-1} are per-pixel, non-negative and sum to one (a softmax over two
-logits computed from the current and the previous features). Flags switch off the auxiliary
-state, the blending or the recurrence itself (then every frame is deblurred alone: the
-single-frame baseline).
+The features live at quarter resolution (two stride-2 convolutions, for CPU speed; half
+resolution with ``feature_stride=2``); the reconstructor upsamples by pixel shuffle (no
+transposed convolution, so no checkerboard) and merges with shallow full-resolution features of
+B_t (the detail a residual needs). The blending weights w_t and w~_{t-1} are per-pixel,
+non-negative and sum to one (a softmax over two logits computed from the current and the
+previous features). Flags switch off the auxiliary state, the blending or the recurrence itself
+(then every frame is deblurred alone: the single-frame baseline).
 """
 
 from __future__ import annotations
@@ -27,7 +27,8 @@ from torch import nn
 
 @dataclass(frozen=True)
 class VideoDeblurConfig:
-    """Widths and switches of :class:`VideoDeblurNet`."""
+    """Widths and switches of :class:`VideoDeblurNet`; ``feature_stride`` (4 or 2) is how much
+    coarser than the frame the recurrent features are."""
 
     channels: int = 32
     hidden: int = 24
@@ -35,6 +36,11 @@ class VideoDeblurConfig:
     aux_state: bool = True
     blending: bool = True
     recurrent: bool = True
+    feature_stride: int = 4
+
+    def __post_init__(self) -> None:
+        if self.feature_stride not in (2, 4):
+            raise ValueError(f"feature_stride must be 2 or 4, got {self.feature_stride}")
 
     def as_dict(self) -> dict:
         """Plain dict (stored in checkpoints)."""
@@ -56,17 +62,16 @@ class ResidualBlock(nn.Module):
 class VideoDeblurNet(nn.Module):
     """The recurrent deblurring network; frames in [-1, 1], (N, T, 3, H, W) → same shape."""
 
-    stride = 4
-
     def __init__(self, config: VideoDeblurConfig | None = None) -> None:
         super().__init__()
         self.config = config = config or VideoDeblurConfig()
+        self.stride = config.feature_stride
         c, h = config.channels, config.hidden
         s = c // 2
         self.encode_full = nn.Sequential(nn.Conv2d(3, s, 3, padding=1), nn.ReLU())
         self.encode = nn.Sequential(
             nn.Conv2d(s, s, 3, stride=2, padding=1), nn.ReLU(),
-            nn.Conv2d(s, c, 3, stride=2, padding=1), nn.ReLU(),
+            nn.Conv2d(s, c, 3, stride=self.stride // 2, padding=1), nn.ReLU(),
         )  # fmt: skip
         # eq. 8: features of B_t merged with the previous hidden state
         self.recur = nn.Sequential(
