@@ -28,7 +28,12 @@ import time
 
 import numpy as np
 
-from blurloc.blur import LENGTH_MODEL_PATH, calibrate_blur_threshold
+from blurloc.blur import (
+    BLURRED_FROM_PX,
+    LENGTH_MODEL_PATH,
+    SHARP_BELOW_PX,
+    calibrate_blur_threshold,
+)
 from blurloc.experiments.blur_estimation import (
     estimation_rows,
     estimation_summary,
@@ -51,8 +56,9 @@ def fit(roots: list[str], budget: int | None) -> None:
                              np.concatenate([extents, photo_extents]))  # fmt: skip
     model.save(LENGTH_MODEL_PATH)
     scores = np.maximum(model.predict(features), 0.0)
-    keep = ((extents >= 3) | (extents < 1.5)) & (features[:, -1] == 0)  # analysis = image scale
-    threshold = calibrate_blur_threshold(scores[keep], extents[keep] >= 3,
+    blurred = extents >= BLURRED_FROM_PX
+    keep = (blurred | (extents < SHARP_BELOW_PX)) & (features[:, -1] == 0)  # analysis = image
+    threshold = calibrate_blur_threshold(scores[keep], blurred[keep],
                                          sharp_groups=extents[keep] > 0)  # fmt: skip
     print(f"length model fitted on {len(extents)} training examples of {', '.join(roots)} and "
           f"{len(photo_extents)} blurred photographs, written to {LENGTH_MODEL_PATH}; detector "

@@ -201,6 +201,11 @@ def estimate_noise_sigma(image: np.ndarray) -> float:
 
 #: Smallest image side (px) on which blur can be detected or estimated.
 MIN_ANALYSIS_SIDE = 16
+#: The detector's classes, by recorded blur extent (px): frames with at least BLURRED_FROM_PX are
+#: blurred; frames under SHARP_BELOW_PX (too little blur for deblurring to help) count as sharp,
+#: beside the sharp renders; frames in between are left out of calibration.
+BLURRED_FROM_PX = 3.0
+SHARP_BELOW_PX = 1.5
 
 
 def calibrate_blur_threshold(
@@ -667,8 +672,9 @@ def length_from_features(features: BlurFeatures, model: LengthModel | None = Non
 
 #: Estimated length (px) above which :func:`detect_blur` calls an image blurred, and at or below
 #: which the estimator reports it sharp. Chosen by :func:`calibrate_blur_threshold` on the
-#: stand-in's training split (frames with >= 3 px of blur against sharp renders and frames under
-#: 1.5 px, each of the two sharp groups counted equally; notebook 01 recomputes it).
+#: stand-in's training split (frames with >= BLURRED_FROM_PX of blur against sharp renders and
+#: frames under SHARP_BELOW_PX, each of the two sharp groups counted equally; notebook 01
+#: recomputes it).
 BLUR_THRESHOLD = 2.45
 
 

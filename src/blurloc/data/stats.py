@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..blur import BLURRED_FROM_PX, SHARP_BELOW_PX, blur_score
 from ..geometry import frame_to_frame_motion
 from .samples import split_frames
 from .sevenscenes import SPLIT_FILES, list_scenes, load_split, read_image
@@ -93,9 +94,9 @@ def read_blur_metadata(root: str | os.PathLike) -> list[dict]:
 def blur_detection_samples(
     root: str | os.PathLike,
     split: str,
-    min_blur_px: float = 3.0,
+    min_blur_px: float = BLURRED_FROM_PX,
     budget: int | None = None,
-    sharp_below_px: float = 1.5,
+    sharp_below_px: float = SHARP_BELOW_PX,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Detector scores of a stand-in split's frames.
 
@@ -126,8 +127,6 @@ def blur_detection_samples(
     extents : np.ndarray
         (N,) recorded blur extents, px (0 for sharp renders).
     """
-    from ..blur import blur_score
-
     extents = {
         (row["scene"], row["sequence"], row["frame"]): row["mean_px"]
         for row in read_blur_metadata(root)

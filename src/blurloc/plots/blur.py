@@ -7,6 +7,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import Patch
 
+from ..blur import BLURRED_FROM_PX, SHARP_BELOW_PX, detection_rates
 from .style import image_axis, styled
 
 
@@ -155,13 +156,12 @@ def plot_detection(
     figure, axes = plt.subplots(1, len(scores), figsize=(5 * len(scores), 3), sharex=True)
     for axis, (name, (values, labels)) in zip(np.atleast_1d(axes), scores.items(), strict=True):
         bins = np.linspace(min(values.min(), threshold) - 0.5, values.max() + 0.5, 40)
-        axis.hist(
-            values[~labels], bins, alpha=0.6, color="#1f77b4", label="sharp (render, or < 1.5 px)"
-        )
-        axis.hist(values[labels], bins, alpha=0.6, color="#d62728", label="blurred (≥ 3 px)")
+        sharp_label = f"sharp (render, or < {SHARP_BELOW_PX:g} px)"
+        axis.hist(values[~labels], bins, alpha=0.6, color="#1f77b4", label=sharp_label)
+        axis.hist(values[labels], bins, alpha=0.6, color="#d62728",
+                  label=f"blurred (≥ {BLURRED_FROM_PX:g} px)")  # fmt: skip
         axis.axvline(threshold, color="k", lw=1.2, label=f"threshold {threshold:.2f}")
-        hit = (values[labels] > threshold).mean()
-        correct_sharp = (values[~labels] <= threshold).mean()
+        hit, correct_sharp, _ = detection_rates(values, labels, threshold)
         axis.set_title(f"{name}: {hit:.0%} of blurred, {correct_sharp:.0%} of sharp right")
         axis.set_xlabel("blur score: estimated blur length (px)")
         axis.legend(fontsize=7)
