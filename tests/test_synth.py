@@ -19,7 +19,6 @@ from blurloc.data.synth import (
     SynthConfig,
     prepare_data_root,
     render_exposure,
-    scene_route,
     sequence_trajectory,
     split_sequences,
     synthesize,
@@ -264,8 +263,6 @@ def test_bad_settings_are_refused(tmp_path: Path) -> None:
         SynthConfig(width=4)
     with pytest.raises(ValueError, match="--blur-strength"):
         SynthConfig(blur_strength=-1)
-    with pytest.raises(ValueError, match="--route-share"):
-        SynthConfig(route_share=1.01)
 
 
 def test_a_real_dataset_root_is_never_rendered_into(tmp_path: Path) -> None:
@@ -297,36 +294,3 @@ def test_an_interrupted_render_is_rendered_again(tmp_path: Path) -> None:
     synthesize(root, scenes=["chess"], config=SynthConfig.quick(), progress=False, workers=1)
     assert check_data(root)["scenes"]["chess"]["test"]["frames"] == 8
     assert "incomplete" not in (root / "standin.json").read_text()
-
-
-def test_independent_sequences_are_the_trajectories_of_before() -> None:
-    """route_share 0 (the default) draws exactly the paths that stand-ins were rendered with
-    before shared routes existed (values recorded from that code), so they need no new render."""
-    config = SynthConfig(frames_per_sequence=30)
-    assert scene_route(make_scene("heads"), config) is None
-    recorded = {"heads": (120.60368712086166, [0.99980083, 0.01349007, -0.01470759]),
-                "stairs": (36.16495287565469, [0.97934822, 0.02636272, -0.20045467])}  # fmt: skip
-    for scene_name, (position_sum, last_row) in recorded.items():
-        _, trajectory = sequence_trajectory(scene_name, 2, config)
-        poses = trajectory.poses(np.arange(config.frames_for(scene_name)) / config.fps)
-        assert poses[:, :3, 3].sum() == pytest.approx(position_sum, abs=1e-9)
-        np.testing.assert_allclose(poses[-1, 0, :3], last_row, atol=1e-8)
-
-
-@pytest.mark.parametrize("scene_name", SCENE_NAMES)
-def test_sequences_on_a_shared_route_keep_clear_and_move_like_7scenes(scene_name: str) -> None:
-    config = SynthConfig(route_share=0.8)
-    scene = make_scene(scene_name)
-    route = scene_route(scene, config)
-    assert route.shape[1] == 6
-    np.testing.assert_allclose(route.mean(axis=0), 0.0, atol=1e-12)
-    frames = np.arange(config.frames_for(scene_name)) / config.fps
-    poses = [sequence_trajectory(scene_name, n, config)[1].poses(frames) for n in (1, 2)]
-    for pose in poses:
-        assert scene.clearance(pose[:, :3, 3]).min() >= scene.min_clearance_m
-    steps, turns = np.concatenate([frame_to_frame_motion(pose) for pose in poses], axis=1)
-    assert np.median(steps) == pytest.approx(0.009, rel=0.1)
-    # the route's own turns can exceed the target in a small room (heads: 0.62 deg)
-    assert np.median(turns) == pytest.approx(0.55, rel=0.15)
-    # both sequences follow the same route, each from its own place on it: not the same path
-    assert np.abs(poses[0][:, :3, 3] - poses[1][:, :3, 3]).max() > 0.1
