@@ -14,8 +14,10 @@ prints per scene the mean-pose baseline, the nearest-view oracle (the training p
 each test pose: how near the test views lie to views the training split holds) and the
 regressor's errors and ratios. Then the paired difference of the position and orientation
 ratios between the last and the first ``--epochs`` value, per render seed and scene, with a
-95 % t-interval. Renders (about 5 minutes each on 2 cores) and trainings are kept under
-``--work`` and not redone. Not part of ``make reproduce``; the README records the last run.
+95 % t-interval. Both tables are also saved under ``--work`` (``learnability.md``/``.csv``,
+``learnability_epochs.md``/``.csv``). Renders (about 5 minutes each on 2 cores) and trainings
+are kept under ``--work`` and not redone. Not part of ``make reproduce``; the README records
+the last run.
 """
 
 from __future__ import annotations
@@ -24,17 +26,16 @@ import argparse
 import time
 from pathlib import Path
 
-import numpy as np
-
 from blurloc.data.scenes import SCENE_NAMES
 from blurloc.data.synth import synthesize
+from blurloc.experiments.comparisons import comparison_table
 from blurloc.experiments.pose import (
     learning_check,
     mean_pose_baseline,
     nearest_view_baseline,
     run_pose_matrix,
 )
-from blurloc.intervals import paired_interval
+from blurloc.tables import save_table
 from blurloc.train.config import PoseTrainConfig
 
 
@@ -78,38 +79,29 @@ def main() -> None:
             print(f"  {epochs} epochs: trained and tested in {time.perf_counter() - start:.0f} s",
                   flush=True)  # fmt: skip
 
-    print(f"\nSharp-input LSTM, mean over {args.seeds} training seeds\n")
-    print(
-        "| render seed | epochs | scene | mean pose (m / °) | nearest view (m, ratio) "
-        "| LSTM (m / °) | ratio position | ratio orientation |\n"
-        "|---|---|---|---|---|---|---|---|"
-    )
-    for (render_seed, epochs), rows in results.items():
-        for r in rows:
-            print(f"| {render_seed} | {epochs} | {r['scene']} | {r['baseline_position_m']:.3f} / "
-                  f"{r['baseline_orientation_deg']:.1f} | {r['nearest_position_m']:.3f}, "
-                  f"{r['nearest_ratio']:.2f} | {r['position_m']:.3f} / {r['orientation_deg']:.2f} "
-                  f"| {r['position_ratio']:.2f} | {r['orientation_ratio']:.2f} |")  # fmt: skip
-    for (render_seed, epochs), rows in results.items():
-        met = sum(r["position_ratio"] <= 0.5 and r["orientation_ratio"] <= 0.6 for r in rows)
-        print(f"render seed {render_seed}, {epochs} epochs: {met} of {len(rows)} scenes at "
+    rows = [
+        {"render_seed": render_seed, "epochs": epochs, **row}
+        for (render_seed, epochs), scene_rows in results.items()
+        for row in scene_rows
+    ]
+    save_table(rows, args.work, "learnability",
+               caption=f"Sharp-input LSTM (mean over {args.seeds} training seeds) against the "
+                       "mean-pose baseline and the nearest-view oracle")  # fmt: skip
+    print("\n" + (args.work / "learnability.md").read_text())
+    for (render_seed, epochs), scene_rows in results.items():
+        met = sum(r["position_ratio"] <= 0.5 and r["orientation_ratio"] <= 0.6 for r in scene_rows)
+        print(f"render seed {render_seed}, {epochs} epochs: {met} of {len(scene_rows)} scenes at "
               f"<= 0.5x position and <= 0.6x orientation")  # fmt: skip
 
     first, last = args.epochs[0], args.epochs[-1]
-    print(f"\n{last} minus {first} epochs, paired by render seed and scene (95 % t-interval):")
-    for key in ("position_ratio", "orientation_ratio"):
-        differences = [
-            long[key] - short[key]
-            for render_seed in args.render_seeds
-            for short, long in zip(
-                results[render_seed, first], results[render_seed, last], strict=True
-            )
-        ]
-        if len(differences) < 2:
-            break
-        interval = paired_interval(np.array(differences), method="t")
-        print(f"  {key}: {interval.mean:+.3f} [{interval.low:+.3f}, {interval.high:+.3f}] "
-              f"({interval.pairs} pairs)")  # fmt: skip
+    paired = comparison_table(rows, [(first, last)], ("position_ratio", "orientation_ratio"),
+                              factor="epochs", units=("render_seed", "scene"),
+                              method="t")  # fmt: skip
+    save_table([{k: round(v, 3) if isinstance(v, float) else v for k, v in row.items()}
+                for row in paired], args.work, "learnability_epochs",
+               caption=f"{last} minus {first} epochs, paired by render seed and scene; the "
+                       "verdict is on the claim that longer training lowers the ratio")  # fmt: skip
+    print("\n" + (args.work / "learnability_epochs.md").read_text())
 
 
 if __name__ == "__main__":

@@ -10,10 +10,12 @@ checkpoint) and sharp frames, every scene, ``--seeds`` seeds shared by the three
 prints the blur at both input sizes, the mean over seeds of the per-scene medians, and the
 paired differences (network-deblurred - blurred, sharp - blurred) with 95 % bootstrap
 intervals over the scene x seed pairs and the verdict each interval supports, as notebook 04
-does at the default size (``figures/pose_paired_differences.md``). ``--data`` is the
-full-size default stand-in (rendered under ``--work`` when not given, about 5 minutes on 2
-cores); the deblurred copy (about 4 minutes) and the trainings are kept under ``--work``.
-Not part of ``make reproduce`` (about 30 minutes on 2 cores); the README records the last run.
+does at the default size (``figures/pose_paired_differences.md``); both tables are also saved
+under ``--work`` (``pose_input_<resize>.md``/``.csv`` and ``pose_input_<resize>_paired``).
+``--data`` is the full-size default stand-in (rendered under ``--work`` when not given, about
+5 minutes on 2 cores); the deblurred copy (about 3 minutes) and the trainings (about 10
+minutes) are kept under ``--work``. Not part of ``make reproduce``; the README records the
+last run.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ from blurloc.experiments.pose import (
 )
 from blurloc.experiments.video import write_deblurred_root
 from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
+from blurloc.tables import save_table
 from blurloc.train.config import PoseTrainConfig
 
 METRICS = ("position_m_median", "orientation_deg_median", "combined")
@@ -75,25 +78,21 @@ def main() -> None:
     print(f"{len(summaries)} trainings in {(time.perf_counter() - start) / 60:.1f} min\n")
 
     baseline = {scene: mean_pose_baseline(data, scene) for scene in scenes}
-    print(
-        "| input | position (m) | sd | orientation (°) | sd | combined |\n|---|---|---|---|---|---|"
+    name = f"pose_input_{args.resize}"
+    save_table(
+        pose_overview(summaries, runs, baseline),
+        args.work,
+        name,
+        caption=f"Median errors at a {args.resize} px input, mean over scenes and seeds",
     )
-    for row in pose_overview(summaries, runs, baseline):
-        print(
-            f"| {row['condition']} | {row['position_m']} | {row['position_m_sd']} | "
-            f"{row['orientation_deg']} | {row['orientation_deg_sd']} | {row['combined']} |"
-        )
-    print(
-        "\n| comparison | metric | mean difference | relative | 95 % interval | verdict |\n"
-        "|---|---|---|---|---|---|"
-    )
-    pairs = [("blurred", "rnn"), ("blurred", "sharp")]
-    for row in comparison_table(summaries, pairs, METRICS, where={"head": "lstm"}):
-        print(
-            f"| {row['comparison']} | {row['metric']} | {row['mean_difference']:+.4f} | "
-            f"{row['relative_difference']:+.1%} | [{row['ci_low']:+.4f}, {row['ci_high']:+.4f}] "
-            f"| {row['verdict']} |"
-        )
+    paired = comparison_table(summaries, [("blurred", "rnn"), ("blurred", "sharp")], METRICS,
+                              where={"head": "lstm"})  # fmt: skip
+    save_table([{k: round(v, 4) if isinstance(v, float) else v for k, v in row.items()}
+                for row in paired], args.work, f"{name}_paired",
+               caption="Mean paired difference over scene x seed pairs, 95 % bootstrap interval "
+                       "and the verdict on the claimed direction (lower)")  # fmt: skip
+    for table in (name, f"{name}_paired"):
+        print("\n" + (args.work / f"{table}.md").read_text())
 
 
 if __name__ == "__main__":
