@@ -1,6 +1,7 @@
 """Do the pose regressor's defaults learn from one 7-Scenes-length recording at 640x480?
 
     python benchmarks/check_one_sequence.py [--scenes heads fire] [--seeds 3] [--work /tmp/one]
+                                            [--route-share 0]
 
 A user with one real 1000-frame 7-Scenes sequence cuts it into 800 training and 200 test frames
 and runs ``blurloc train-pose`` with its defaults (blurred input, LSTM head, the reader resizing
@@ -12,6 +13,9 @@ for each seed, and prints the median test errors beside the mean-pose baseline (
 training position and rotation predicted for every test frame) and the nearest-view oracle
 (the training pose nearest to each test pose: how far the test views lie from the training
 views). The bar: about half the mean-pose error in position and clearly less in orientation.
+``--route-share`` sets how much of the recording follows its scene's shared route
+(:func:`blurloc.data.synth.scene_route`; default that of :class:`~blurloc.data.synth.SynthConfig`);
+use a fresh ``--work`` for each value.
 Not part of ``make reproduce`` (the 640x480 render alone exceeds its budget); the README records
 the last run.
 """
@@ -53,8 +57,10 @@ def main() -> None:
     parser.add_argument("--scenes", nargs="+", default=["heads", "fire"])
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--work", type=Path, default=Path("/tmp/one-sequence"))
+    parser.add_argument("--route-share", type=float, default=SynthConfig().route_share,
+                        help="part of the walk on the scene's shared route")  # fmt: skip
     args = parser.parse_args()
-    config = SynthConfig(width=640, height=480)
+    config = SynthConfig(width=640, height=480, route_share=args.route_share)
     render_root = args.work / "render"
     start = time.perf_counter()
     jobs = [(render_root, scene, config) for scene in args.scenes]

@@ -217,6 +217,8 @@ def test_deblur_keeps_16_bit_depth_and_alpha(
         ["--blur-strength", "1000"],
         ["--noise", "-1"],
         ["--noise", "nan"],
+        ["--route-share", "-0.1"],
+        ["--route-share", "1.5"],
         ["--seed", "-1"],
         ["--workers", "-1"],
         ["--workers", "0"],

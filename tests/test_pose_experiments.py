@@ -12,6 +12,7 @@ import blurloc.experiments.pose as pose_experiments
 from blurloc.data import load_split
 from blurloc.data.stats import read_blur_metadata
 from blurloc.experiments.pose import (
+    baseline_beside_real,
     blur_at_input,
     condition_roots,
     learning_check,
@@ -63,10 +64,9 @@ def test_nearest_view_baseline_picks_the_nearest_training_pose(quick_root: Path)
     assert summary["orientation_deg"]["median"] == pytest.approx(
         np.median(degrees[rows, nearest]), abs=1e-4
     )
-    # an oracle that sees the test poses beats predicting the mean training pose
-    assert summary["position_m"]["median"] < mean_pose_baseline(quick_root, "chess")[
-        "position_m"
-    ]["median"]
+    # weighing position only, it finds the nearest training position
+    by_position = nearest_view_baseline(quick_root, "chess", degrees_per_metre=1e9)
+    assert by_position["position_m"]["median"] == pytest.approx(np.median(metres.min(axis=1)))
     # weighing orientation only, it finds the best orientation of any training frame
     by_angle = nearest_view_baseline(quick_root, "chess", degrees_per_metre=1e-9)
     assert by_angle["orientation_deg"]["median"] == pytest.approx(
@@ -74,6 +74,18 @@ def test_nearest_view_baseline_picks_the_nearest_training_pose(quick_root: Path)
     )
     with pytest.raises(ValueError, match="degrees_per_metre"):
         nearest_view_baseline(quick_root, "chess", degrees_per_metre=0)
+
+
+def test_baseline_table_holds_the_real_baseline_and_the_oracle(quick_root: Path) -> None:
+    rows = {row["scene"]: row for row in baseline_beside_real(quick_root)}
+    assert set(rows) == set(pose_experiments.list_scenes(quick_root))
+    chess = rows["chess"]
+    assert chess["position_m"] == round(mean_pose_baseline(quick_root, "chess")["position_m"][
+        "median"], 3)  # fmt: skip
+    assert (chess["real_position_m"], chess["real_orientation_deg"]) == (0.82, 23.0)
+    nearest = nearest_view_baseline(quick_root, "chess")["position_m"]["median"]
+    assert chess["nearest_position_m"] == round(nearest, 3)
+    assert chess["nearest_ratio"] == pytest.approx(nearest / chess["position_m"], abs=0.006)
 
 
 def test_condition_roots(tmp_path: Path) -> None:

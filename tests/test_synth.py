@@ -9,6 +9,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
 from blurloc.data import check_data, load_split
@@ -19,6 +20,7 @@ from blurloc.data.synth import (
     SynthConfig,
     prepare_data_root,
     render_exposure,
+    scene_route,
     sequence_trajectory,
     split_sequences,
     synthesize,
@@ -33,6 +35,9 @@ from blurloc.geometry import (
 )
 
 WIDTH, HEIGHT = 160, 120
+#: Largest median distance from a test position to the nearest training position, as a share of
+#: the mean-pose baseline.
+NEAREST_POSITION_BAR = 0.16
 
 
 def wall_scene(marker_center: tuple[float, float, float] | None = None) -> Scene:
@@ -215,6 +220,11 @@ def test_trajectories_wander_like_7scenes(scene_name: str) -> None:
     real_position, real_rotation = REAL_MEAN_POSE_BASELINE[scene_name]
     assert 0.4 <= position <= 1.4 and 0.5 < position / real_position < 2.0
     assert 20.0 <= rotation <= 50.0 and 0.5 < rotation / real_rotation < 2.0
+    # the test sequences walk where training sequences went (the scene's shared route): the
+    # nearest training position lies 0.04-0.15x the baseline away (independent sequences:
+    # 0.06-0.27x; fire, heads and stairs above this bar)
+    nearest, _ = cKDTree(train_poses[:, :3, 3]).query(test_poses[:, :3, 3])
+    assert np.median(nearest) < NEAREST_POSITION_BAR * position
 
 
 def test_same_seed_gives_identical_files(quick_root: Path, tmp_path: Path) -> None:
@@ -263,6 +273,8 @@ def test_bad_settings_are_refused(tmp_path: Path) -> None:
         SynthConfig(width=4)
     with pytest.raises(ValueError, match="--blur-strength"):
         SynthConfig(blur_strength=-1)
+    with pytest.raises(ValueError, match="--route-share"):
+        SynthConfig(route_share=1.01)
 
 
 def test_a_real_dataset_root_is_never_rendered_into(tmp_path: Path) -> None:
@@ -294,3 +306,37 @@ def test_an_interrupted_render_is_rendered_again(tmp_path: Path) -> None:
     synthesize(root, scenes=["chess"], config=SynthConfig.quick(), progress=False, workers=1)
     assert check_data(root)["scenes"]["chess"]["test"]["frames"] == 8
     assert "incomplete" not in (root / "standin.json").read_text()
+
+
+def test_independent_sequences_are_the_trajectories_of_before() -> None:
+    """route_share 0 draws exactly the paths that stand-ins were rendered with before shared
+    routes existed (values recorded from that code), so such stand-ins need no new render."""
+    config = SynthConfig(frames_per_sequence=30, route_share=0.0)
+    assert scene_route(make_scene("heads"), config) is None
+    recorded = {"heads": (120.60368712086166, [0.99980083, 0.01349007, -0.01470759]),
+                "stairs": (36.16495287565469, [0.97934822, 0.02636272, -0.20045467])}  # fmt: skip
+    for scene_name, (position_sum, last_row) in recorded.items():
+        _, trajectory = sequence_trajectory(scene_name, 2, config)
+        poses = trajectory.poses(np.arange(config.frames_for(scene_name)) / config.fps)
+        assert poses[:, :3, 3].sum() == pytest.approx(position_sum, abs=1e-9)
+        np.testing.assert_allclose(poses[-1, 0, :3], last_row, atol=1e-8)
+
+
+@pytest.mark.parametrize("scene_name", SCENE_NAMES)
+def test_sequences_on_a_shared_route_keep_clear_and_move_like_7scenes(scene_name: str) -> None:
+    config = SynthConfig()
+    scene = make_scene(scene_name)
+    route = scene_route(scene, config)
+    assert route.shape[1] == 6
+    np.testing.assert_allclose(route.mean(axis=0), 0.0, atol=1e-12)
+    np.testing.assert_allclose(route.std(axis=0), 1.0, atol=1e-12)
+    frames = np.arange(config.frames_for(scene_name)) / config.fps
+    poses = [sequence_trajectory(scene_name, n, config)[1].poses(frames) for n in (1, 2)]
+    for pose in poses:
+        assert scene.clearance(pose[:, :3, 3]).min() >= scene.min_clearance_m
+    steps, turns = np.concatenate([frame_to_frame_motion(pose) for pose in poses], axis=1)
+    assert np.median(steps) == pytest.approx(0.009, rel=0.1)
+    # the route's own turns can exceed the target in a small room (heads: 0.62 deg)
+    assert np.median(turns) == pytest.approx(0.55, rel=0.15)
+    # both sequences follow the same route, each from its own place on it: not the same path
+    assert np.abs(poses[0][:, :3, 3] - poses[1][:, :3, 3]).max() > 0.1

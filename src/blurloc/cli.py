@@ -24,6 +24,7 @@ def _synth(args: argparse.Namespace) -> int:
             "height": args.height,
             "blur_strength": args.blur_strength,
             "noise_sigma": args.noise,
+            "route_share": args.route_share,
         }.items()
         if v is not None
     }
@@ -316,6 +317,9 @@ def build_parser() -> argparse.ArgumentParser:
     synth.add_argument("--height", type=int)
     synth.add_argument("--blur-strength", type=float, help="exposure in frame intervals")
     synth.add_argument("--noise", type=float, help="sensor noise sigma on [0, 1] intensities")
+    synth.add_argument("--route-share", type=float,
+                       help="part of each walk on a route shared by the scene's sequences "
+                            "(0-1; default 0.9; 0: independent sequences)")  # fmt: skip
     synth.add_argument("--workers", type=int, help="processes (default: one per core)")
     synth.add_argument("--overwrite", action="store_true", help="render even if up to date")
     synth.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -283,18 +283,23 @@ def baseline_beside_real(root: str | os.PathLike) -> list[dict]:
     -------
     list of dict
         Per scene: ``position_m`` and ``orientation_deg`` (median errors of predicting the mean
-        training pose, :func:`mean_pose_baseline`) and ``real_position_m`` /
+        training pose, :func:`mean_pose_baseline`), ``real_position_m`` /
         ``real_orientation_deg`` (the same measure on the published 7-Scenes poses,
-        :data:`blurloc.data.scenes.REAL_MEAN_POSE_BASELINE`; empty for other scene names).
+        :data:`blurloc.data.scenes.REAL_MEAN_POSE_BASELINE`; empty for other scene names), and
+        the nearest-view oracle's position error (:func:`nearest_view_baseline`) in metres and
+        as a share of ``position_m`` (``nearest_position_m``, ``nearest_ratio``).
     """
     rows = []
     for scene in list_scenes(root):
         summary = mean_pose_baseline(root, scene)
+        position = summary["position_m"]["median"]
+        nearest = nearest_view_baseline(root, scene)["position_m"]["median"]
         real = REAL_MEAN_POSE_BASELINE.get(scene, ("", ""))
-        rows.append({"scene": scene,
-                     "position_m": round(summary["position_m"]["median"], 3),
+        rows.append({"scene": scene, "position_m": round(position, 3),
                      "orientation_deg": round(summary["orientation_deg"]["median"], 1),
-                     "real_position_m": real[0], "real_orientation_deg": real[1]})  # fmt: skip
+                     "real_position_m": real[0], "real_orientation_deg": real[1],
+                     "nearest_position_m": round(nearest, 3),
+                     "nearest_ratio": round(nearest / position, 2)})  # fmt: skip
     return rows
 
 
