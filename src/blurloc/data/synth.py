@@ -188,8 +188,8 @@ class HandheldTrajectory:
     ``rotation_median_deg``). The extent of the path is the region's, not a by-product of the
     speed: real sequences move about 9 mm per frame yet span a room over 1000 frames. A path
     that comes closer than ``scene.min_clearance_m`` to a surface is drawn again. With a
-    ``route`` (:func:`scene_route`) and ``config.route_share > 0``, the walk and the gaze join
-    that route at a random place and follow it, mixed with their own wander.
+    ``route`` (:func:`scene_route`, None when ``config.route_share`` is 0), the walk and the
+    gaze join that route at a random place and follow it, mixed with their own wander.
     """
 
     SAMPLE_RATE = 600.0  # Hz of the fine grid (hand shake, exposures)
@@ -233,7 +233,7 @@ class HandheldTrajectory:
         self._path_grid = np.arange(slow_count) / self.SLOW_RATE
         walk = _unit_noise(rng, slow_count, self.SLOW_RATE, 3)
         gaze = _unit_noise(rng, slow_count, self.SLOW_RATE, 3)
-        if self._route is not None and config.route_share > 0:  # join the route somewhere
+        if self._route is not None:  # join the route somewhere (scene_route: None at share 0)
             along = (rng.integers(len(self._route)) + np.arange(slow_count)) % len(self._route)
             own = np.sqrt(1.0 - config.route_share**2)
             walk = config.route_share * self._route[along, :3] + own * walk
