@@ -5,6 +5,7 @@ for a model used on another scene, and video inference in bounded memory."""
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from dataclasses import replace
@@ -15,6 +16,7 @@ import numpy as np
 import pytest
 import torch
 
+import blurloc.data.sevenscenes
 import blurloc.train.datasets
 from blurloc.cli import main
 from blurloc.data import load_split
@@ -160,10 +162,15 @@ def test_training_decodes_each_frame_once(
         decoded.append(Path(path))
         return read_image(path)
 
+    pose_reads: list[Path] = []
+    read_pose = blurloc.data.sevenscenes.read_pose
     monkeypatch.setattr(blurloc.train.datasets, "read_image", counting)
+    monkeypatch.setattr(blurloc.data.sevenscenes, "read_pose",
+                        lambda path: pose_reads.append(Path(path)) or read_pose(path))  # fmt: skip
     train_pose(quick_root, "chess", tmp_path / "m", replace(TINY, epochs=3), progress=False)
     frames = sum(len(s) for s in load_split(quick_root, "chess", "train"))
     assert len(decoded) == len(set(decoded)) == frames  # three epochs, one decode per frame
+    assert len(pose_reads) == len(set(pose_reads)) == frames  # and one read per pose file
 
 
 def test_frame_cache_is_bounded(quick_root: Path) -> None:
@@ -226,3 +233,19 @@ def test_parallel_map_keeps_the_order_in_worker_processes() -> None:
     assert list(parallel_map(abs, [-n for n in numbers], 1)) == numbers
     with pytest.raises(ValueError, match="workers must be >= 1"):
         parallel_map(abs, numbers, 0)
+    with pytest.raises(ValueError, match="chunksize must be >= 1"):
+        parallel_map(abs, numbers, 2, chunksize=0)
+
+
+def _process_id(_job: int) -> int:
+    return os.getpid()
+
+
+def test_parallel_map_hands_a_chunk_to_one_process() -> None:
+    """With chunksize 3, the jobs of one chunk (e.g. the seeds of one pose run, which read the
+    same frames) run in the same worker process."""
+    from blurloc.train.loop import parallel_map
+
+    processes = list(parallel_map(_process_id, range(6), 2, chunksize=3))
+    assert len(set(processes[:3])) == len(set(processes[3:])) == 1
+    assert os.getpid() not in processes

@@ -66,9 +66,10 @@ def run_pose_matrix(
 
     The same seeds serve every condition and head, so that runs can be paired by scene and
     seed (:func:`blurloc.experiments.comparisons.comparison_table`). Each process decodes a
-    scene's frames once for all the runs of that scene it makes (one
-    :class:`~blurloc.train.datasets.FrameCache` per scene). Finished trainings are not re-run
-    (:func:`~blurloc.train.pose.train_pose` resumes).
+    scene's frames and reads its poses once for all the runs of that scene it makes (one
+    :class:`~blurloc.train.datasets.FrameCache` per scene), and all seeds of one (condition,
+    head) run in the same process, so each condition's frames are read by one process only.
+    Finished trainings are not re-run (:func:`~blurloc.train.pose.train_pose` resumes).
 
     With ``workers > 1`` the runs are spread over that many processes
     (:func:`~blurloc.train.loop.parallel_map`), each training with ``config.threads // workers``
@@ -120,7 +121,7 @@ def run_pose_matrix(
              model_folder(out_dir, condition, head, scene, seed))
             for scene in scenes for condition, head in runs for seed in seeds]  # fmt: skip
     _SCENE_CACHES.clear()
-    results = parallel_map(_run_one, jobs, workers)
+    results = parallel_map(_run_one, jobs, workers, chunksize=len(seeds))
     return _collect(tqdm(results, total=len(jobs), disable=not progress, desc="pose runs"))
 
 

@@ -27,6 +27,7 @@ class FrameCache:
 
     The cache holds at most ``max_bytes`` of pixels; frames met once it is full are decoded
     again on every use (nothing is evicted, so what is cached never changes during a run).
+    A sequence's poses are kept too (128 bytes a frame, not counted in the bound).
 
     Parameters
     ----------
@@ -40,6 +41,7 @@ class FrameCache:
         self.max_bytes = max_bytes
         self.bytes = 0
         self._frames: dict[tuple[Path, int | None], np.ndarray] = {}
+        self._poses: dict[tuple[Path, tuple[int, ...]], np.ndarray] = {}
 
     def __len__(self) -> int:
         return len(self._frames)
@@ -70,6 +72,25 @@ class FrameCache:
                 self._frames[key] = image
                 self.bytes += image.nbytes
         return image
+
+    def poses(self, sequence: SequenceFrames) -> np.ndarray:
+        """The camera-to-world poses of ``sequence``, read and validated once.
+
+        Parameters
+        ----------
+        sequence : SequenceFrames
+            The frames whose poses are wanted.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, 4, 4) poses (:meth:`SequenceFrames.poses`); the cached array itself (do not
+            modify it).
+        """
+        key = (sequence.folder, sequence.frame_ids)
+        if key not in self._poses:
+            self._poses[key] = sequence.poses()
+        return self._poses[key]
 
 
 def resize_short_side(image: np.ndarray, short_side: int) -> np.ndarray:
@@ -155,9 +176,9 @@ class PoseSequenceDataset(Dataset):
         self.crop = (crop, crop) if isinstance(crop, int) else crop
         self.random_crop = random_crop
         self.kinds = tuple(kinds)
-        self._poses = [seq.poses() for seq in self.sequences]
-        self._quaternions = [rotation_to_quaternion(poses[:, :3, :3]) for poses in self._poses]
         self.cache = cache if cache is not None else FrameCache()
+        self._poses = [self.cache.poses(seq) for seq in self.sequences]
+        self._quaternions = [rotation_to_quaternion(poses[:, :3, :3]) for poses in self._poses]
         self.index: list[tuple[int, int]] = []
         for s, seq in enumerate(self.sequences):
             if len(seq) < window:

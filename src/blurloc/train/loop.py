@@ -234,7 +234,9 @@ def _changed(stored: dict, wanted: dict, prefix: str = "") -> list[str]:
     return changed
 
 
-def parallel_map(function: Callable, jobs: Iterable, workers: int = 1) -> Iterator:
+def parallel_map(
+    function: Callable, jobs: Iterable, workers: int = 1, chunksize: int = 1
+) -> Iterator:
     """``map(function, jobs)``, results in order, spread over ``workers`` processes.
 
     Workers are spawned (a forked PyTorch may hang on its threads) and each runs one PyTorch
@@ -250,6 +252,9 @@ def parallel_map(function: Callable, jobs: Iterable, workers: int = 1) -> Iterat
         The arguments, one per call.
     workers : int
         Processes (1: in this process, with its thread count).
+    chunksize : int
+        Consecutive jobs handed to one process together (jobs that read the same files then
+        read them in one process only).
 
     Returns
     -------
@@ -259,18 +264,20 @@ def parallel_map(function: Callable, jobs: Iterable, workers: int = 1) -> Iterat
     Raises
     ------
     ValueError
-        If ``workers`` is not positive.
+        If ``workers`` or ``chunksize`` is not positive.
     """
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
+    if chunksize < 1:
+        raise ValueError(f"chunksize must be >= 1, got {chunksize}")
     if workers == 1:
         return map(function, jobs)
-    return _pooled(function, jobs, workers)
+    return _pooled(function, jobs, workers, chunksize)
 
 
-def _pooled(function: Callable, jobs: Iterable, workers: int) -> Iterator:
+def _pooled(function: Callable, jobs: Iterable, workers: int, chunksize: int) -> Iterator:
     """The results of :func:`parallel_map` from a pool that closes when they are consumed."""
     context = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(workers, mp_context=context, initializer=torch.set_num_threads,
                              initargs=(1,)) as pool:  # fmt: skip
-        yield from pool.map(function, jobs)
+        yield from pool.map(function, jobs, chunksize=chunksize)

@@ -144,7 +144,7 @@ def _train(
     validation_config = replace(config, window=min(config.window, *map(len, validation)))
     model = PoseRegressor(config.model).to(device)
     with torch.no_grad():  # start from the mean training pose
-        poses = np.concatenate([s.poses() for s in train_sequences])
+        poses = np.concatenate([cache.poses(s) for s in train_sequences])
         model.position.bias.copy_(torch.as_tensor(poses[:, :3, 3].mean(axis=0)))
         quaternions = rotation_to_quaternion(poses[:, :3, :3])
         model.rotation.bias.copy_(torch.as_tensor(quaternions.mean(axis=0)))
