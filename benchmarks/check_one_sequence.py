@@ -1,12 +1,13 @@
 """Do the pose regressor's defaults learn from one 7-Scenes-length recording at 640x480?
 
-    python benchmarks/check_one_sequence.py [--scenes heads fire] [--seeds 3] [--work /tmp/one]
-                                            [--route-share 0]
+    python benchmarks/check_one_sequence.py [--scenes heads fire] [--sequence 1] [--seeds 3]
+                                            [--work /tmp/one] [--route-share 0]
 
 A user with one real 1000-frame 7-Scenes sequence cuts it into 800 training and 200 test frames
 and runs ``blurloc train-pose`` with its defaults (blurred input, LSTM head, the reader resizing
 each 640x480 frame to a 64 px short side). This check does the same on stand-in sequences
-rendered at 640x480 (sequence 1 of each scene, 1000 frames; stairs 500, cut 400/100): it
+rendered at 640x480 (``--sequence`` of each scene, default 1; 1000 frames, stairs 500, cut
+400/100): it
 renders them (about 15 core-minutes per 1000 frames; kept under ``--work`` and not re-rendered),
 cuts them with :func:`blurloc.data.split_one_sequence`, trains with the command line's defaults
 for each seed, and prints the median test errors beside the mean-pose baseline (the mean
@@ -15,7 +16,7 @@ training position and rotation predicted for every test frame) and the nearest-v
 views). The bar: about half the mean-pose error in position and clearly less in orientation.
 ``--route-share`` sets how much of the recording follows its scene's shared route
 (:func:`blurloc.data.synth.scene_route`; default that of :class:`~blurloc.data.synth.SynthConfig`);
-use a fresh ``--work`` for each value.
+use a fresh ``--work`` for each value and each ``--sequence``.
 Not part of ``make reproduce`` (the 640x480 render alone exceeds its budget); the README records
 the last run.
 """
@@ -43,11 +44,11 @@ RENDER_SEED = 0
 BLURLOC = Path(sys.executable).with_name("blurloc")  # the command line, as a user runs it
 
 
-def _render(job: tuple[Path, str, SynthConfig]) -> str:
-    """Render sequence 1 of one scene unless its blur.csv (written last) is already there."""
-    root, scene, config = job
-    if not (root / scene / "seq-01" / "blur.csv").is_file():
-        render_sequence(root, scene, 1, config, RENDER_SEED)
+def _render(job: tuple[Path, str, int, SynthConfig]) -> str:
+    """Render one sequence of one scene unless its blur.csv (written last) is already there."""
+    root, scene, number, config = job
+    if not (root / scene / f"seq-{number:02d}" / "blur.csv").is_file():
+        render_sequence(root, scene, number, config, RENDER_SEED)
     return scene
 
 
@@ -55,6 +56,7 @@ def main() -> None:
     """Render, cut, train and print the table."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scenes", nargs="+", default=["heads", "fire"])
+    parser.add_argument("--sequence", type=int, default=1, help="sequence number rendered")
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--work", type=Path, default=Path("/tmp/one-sequence"))
     parser.add_argument("--route-share", type=float, default=SynthConfig().route_share,
@@ -63,7 +65,7 @@ def main() -> None:
     config = SynthConfig(width=640, height=480, route_share=args.route_share)
     render_root = args.work / "render"
     start = time.perf_counter()
-    jobs = [(render_root, scene, config) for scene in args.scenes]
+    jobs = [(render_root, scene, args.sequence, config) for scene in args.scenes]
     list(parallel_map(_render, jobs, workers=min(2, len(jobs))))
     print(f"rendered in {time.perf_counter() - start:.0f} s", flush=True)
 
@@ -72,7 +74,8 @@ def main() -> None:
         frames = config.frames_for(scene)
         cut_root = args.work / "cut"
         if not (cut_root / scene).is_dir():
-            split_one_sequence(render_root / scene / "seq-01", cut_root, scene, frames * 4 // 5)
+            split_one_sequence(render_root / scene / f"seq-{args.sequence:02d}", cut_root, scene,
+                               frames * 4 // 5)  # fmt: skip
         baseline = mean_pose_baseline(cut_root, scene)
         nearest = nearest_view_baseline(cut_root, scene)
         base, near = baseline["position_m"]["median"], nearest["position_m"]["median"]

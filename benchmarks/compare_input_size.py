@@ -13,7 +13,7 @@ intervals over the scene x seed pairs and the verdict each interval supports, as
 does at the default size (``figures/pose_paired_differences.md``); both tables are also saved
 under ``--work`` (``pose_input_<resize>.md``/``.csv`` and ``pose_input_<resize>_paired``).
 ``--data`` is the full-size default stand-in (rendered under ``--work`` when not given, about
-5 minutes on 2 cores); the deblurred copy (about 3 minutes) and the trainings (about 10
+7 minutes on 2 cores); the deblurred copy (about 3 minutes) and the trainings (about 11
 minutes) are kept under ``--work``. Not part of ``make reproduce``; the README records the
 last run.
 """
