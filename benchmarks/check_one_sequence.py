@@ -3,17 +3,16 @@
     python benchmarks/check_one_sequence.py [--scenes heads fire] [--sequence 1] [--seeds 3]
                                             [--work /tmp/one] [--route-share 0]
 
-A user with one real 1000-frame 7-Scenes sequence cuts it into 800 training and 200 test frames
-and runs ``blurloc train-pose`` with its defaults (blurred input, LSTM head, the reader resizing
-each 640x480 frame to a 64 px short side). This check does the same on stand-in sequences
-rendered at 640x480 (``--sequence`` of each scene, default 1; 1000 frames, stairs 500, cut
-400/100): it
-renders them (about 15 core-minutes per 1000 frames; kept under ``--work`` and not re-rendered),
-cuts them with :func:`blurloc.data.split_one_sequence`, trains with the command line's defaults
-for each seed, and prints the median test errors beside the mean-pose baseline (the mean
-training position and rotation predicted for every test frame) and the nearest-view oracle
-(the training pose nearest to each test pose: how far the test views lie from the training
-views). The bar: about half the mean-pose error in position and clearly less in orientation.
+A user with one real 1000-frame 7-Scenes sequence cuts it into 800 training and 200 test frames and
+runs ``blurloc train-pose`` with its defaults (blurred input, LSTM head, the reader resizing each
+640x480 frame to a 64 px short side). This check does the same on stand-in sequences rendered at
+640x480 (``--sequence`` of each scene, default 1; 1000 frames, stairs 500, cut 400/100): it renders
+them (8-9 core-minutes per 1000 frames; kept under ``--work`` and not re-rendered), cuts them with
+:func:`blurloc.data.split_one_sequence`, trains with the command line's defaults for each seed, and
+prints the median test errors beside the mean-pose baseline (the mean training position and rotation
+predicted for every test frame) and the nearest-view oracle (the training pose nearest to each test
+pose: how far the test views lie from the training views). The bar: about half the mean-pose error
+in position and clearly less in orientation.
 ``--route-share`` sets how much of the recording follows its scene's shared route
 (:func:`blurloc.data.synth.scene_route`; default that of :class:`~blurloc.data.synth.SynthConfig`);
 use a fresh ``--work`` for each value and each ``--sequence``.
