@@ -37,6 +37,7 @@ from blurloc.experiments.pose import (
     nearest_view_baseline,
     predict_test_frames,
 )
+from blurloc.tables import save_table
 from blurloc.train.loop import parallel_map
 
 RENDER_SEED = 0
@@ -89,23 +90,33 @@ def main() -> None:
                            check=True)  # fmt: skip
             seconds = time.perf_counter() - start
             predicted = predict_test_frames(out / "best.pt", cut_root, scene)
-            rows.append((scene, seed, float(np.median(predicted["position_error"])),
-                         float(np.median(predicted["orientation_error"])),
-                         baseline["position_m"]["median"], baseline["orientation_deg"]["median"],
-                         near, nearest["orientation_deg"]["median"], seconds))  # fmt: skip
+            rows.append({
+                "scene": scene, "seed": seed,
+                "position_m": round(float(np.median(predicted["position_error"])), 3),
+                "orientation_deg": round(float(np.median(predicted["orientation_error"])), 2),
+                "baseline_position_m": round(base, 3),
+                "baseline_orientation_deg": round(baseline["orientation_deg"]["median"], 1),
+                "nearest_position_m": round(near, 3),
+                "nearest_orientation_deg": round(nearest["orientation_deg"]["median"], 1),
+                "training_s": round(seconds),
+            })  # fmt: skip
             print(rows[-1], flush=True)
 
-    print(
-        "\n| scene | seed | position (m) | orientation (°) | mean pose (m / °) | ratio position "
-        "| ratio orientation | nearest training view (m / °) | training (s) |\n"
-        "|---|---|---|---|---|---|---|---|---|"
-    )
-    for scene, seed, position, orientation, base_pos, base_rot, near_pos, near_rot, seconds in rows:
-        print(
-            f"| {scene} | {seed} | {position:.3f} | {orientation:.2f} | {base_pos:.3f} / "
-            f"{base_rot:.1f} | {position / base_pos:.2f} | {orientation / base_rot:.2f} | "
-            f"{near_pos:.3f} / {near_rot:.1f} | {seconds:.0f} |"
-        )
+    for row in rows:
+        row["position_ratio"] = round(row["position_m"] / row["baseline_position_m"], 2)
+        row["orientation_ratio"] = round(row["orientation_deg"] / row["baseline_orientation_deg"],
+                                         2)  # fmt: skip
+    save_table(rows, args.work, "one_sequence",
+               caption=f"train-pose defaults on one 640x480 recording per scene (sequence "
+                       f"{args.sequence}, cut 800/200) against its mean-pose baseline and the "
+                       "nearest-view oracle")  # fmt: skip
+    print("\n" + (args.work / "one_sequence.md").read_text())
+    for scene in args.scenes:
+        mine = [r for r in rows if r["scene"] == scene]
+        position = np.mean([r["position_ratio"] for r in mine])
+        orientation = np.mean([r["orientation_ratio"] for r in mine])
+        print(f"{scene}: mean over {len(mine)} seeds {position:.2f}x position, "
+              f"{orientation:.2f}x orientation of the mean-pose baseline")  # fmt: skip
 
 
 if __name__ == "__main__":
