@@ -2,40 +2,39 @@
 seeds, scored on the stand-in's test sequences, with the paired difference to the first variant.
 
     python benchmarks/ablate_video_deblur.py --root data/standin [--variants full half_resolution]
-        [--seeds 0 1 2] [--steps 400] [--frames 100] [--out build/video_ablation]
+        [--seeds 0 1 2] [--steps 400] [--frames 100] [--out build/video_ablation] [--workers 2]
 
 Each variant is trained as notebook 03 trains its ablations (``VideoTrainConfig`` with ``--steps``
 optimiser steps, on the first 250 frames of every training sequence), once per seed, and scored
 on the first ``--frames`` frames of every test sequence (PSNR against the sharp renders; mean of
-the per-scene means). Printed: each run's gain over the blurred input, each variant's mean and
-spread over seeds, and for every other variant its paired difference to the first (same seeds)
-with a 95 % t-interval. Finished trainings in ``--out`` are reused. Variants: ``full``,
-``half_resolution``, ``wide``, ``single_frame``, ``no_aux``, ``no_blending``.
+the per-scene means). Printed: each variant's parameter count, its gain over the blurred input
+per seed and over seeds, and for every other variant its paired difference to the first (same
+seeds) with a 95 % t-interval. Finished trainings in ``--out`` are reused. Variants: notebook
+03's four at equal parameter count (``full``, ``no_aux``, ``no_blending``, ``single_frame``),
+and ``half_resolution`` (features at half instead of quarter resolution) and ``wide`` (48
+channels, hidden state 32), which change the capacity on purpose.
 """
 
 from __future__ import annotations
 
 import argparse
 import time
-from pathlib import Path
 
-import numpy as np
-
-from blurloc.experiments.deblurring import per_scene_means
-from blurloc.experiments.video import evaluate_video_deblurring
-from blurloc.inference import VideoRestorer
-from blurloc.intervals import paired_interval
-from blurloc.models.video_deblur import VideoDeblurConfig
+from blurloc.experiments.video_ablation import (
+    INTERVAL_COLUMNS,
+    ablation_gains,
+    ablation_intervals,
+    equal_parameter_variants,
+    train_ablations,
+)
+from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
+from blurloc.tables import save_table
 from blurloc.train.config import VideoTrainConfig
-from blurloc.train.video import load_video_splits, train_video_deblur
 
 VARIANTS = {
-    "full": VideoDeblurConfig(),
+    **equal_parameter_variants(),
     "half_resolution": VideoDeblurConfig(feature_stride=2),
     "wide": VideoDeblurConfig(channels=48, hidden=32),
-    "single_frame": VideoDeblurConfig(aux_state=False, blending=False, recurrent=False),
-    "no_aux": VideoDeblurConfig(aux_state=False),
-    "no_blending": VideoDeblurConfig(blending=False),
 }
 
 
@@ -48,40 +47,29 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=400)
     parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
     parser.add_argument("--out", default="build/video_ablation")
+    parser.add_argument("--workers", type=int, default=2, help="processes that train at once")
     args = parser.parse_args()
     if len(args.seeds) < 2:
         parser.error("--seeds: at least two, for a paired interval")
 
-    splits = load_video_splits(args.root, frames_per_sequence=250)
-    gains: dict[str, list[float]] = {name: [] for name in args.variants}
-    for name in args.variants:
-        for seed in args.seeds:
-            run = Path(args.out) / f"{name}-seed{seed}-steps{args.steps}"
-            config = VideoTrainConfig(steps=args.steps, validate_every=100, seed=seed,
-                                      model=VARIANTS[name])  # fmt: skip
-            started = time.perf_counter()
-            train_video_deblur(splits, run, config, progress=False)
-            trained = time.perf_counter() - started
-            methods = {"blurred": np.asarray, "restored": VideoRestorer(run / "best.pt", "cpu")}
-            rows = evaluate_video_deblurring(args.root, methods, "test",
-                                             frames_per_sequence=args.frames)  # fmt: skip
-            means = per_scene_means(rows, "psnr_db")
-            gain = means["restored"]["mean"] - means["blurred"]["mean"]
-            gains[name].append(gain)
-            print(f"{name:16s} seed {seed}: {means['restored']['mean']:.2f} dB, "
-                  f"gain {gain:+.2f} dB over the blurred input ({trained:.0f} s training)",
-                  flush=True)  # fmt: skip
-    first = args.variants[0]
+    variants = {name: VARIANTS[name] for name in args.variants}
+    budget = VideoTrainConfig(steps=args.steps, validate_every=100)
+    started = time.perf_counter()
+    runs = train_ablations(args.root, variants, args.seeds, budget, f"{args.out}/steps{args.steps}",
+                           frames_per_sequence=250, workers=args.workers)
+    trained = time.perf_counter() - started
+    gains, _ = ablation_gains(args.root, runs, frames_per_sequence=args.frames)
+    for name, by_seed in gains.items():
+        print(f"{name:16s} " + ", ".join(f"seed {s}: {g:+.2f} dB" for s, g in by_seed.items()))
+    parameters = {name: parameter_count(VideoDeblurNet(c)) for name, c in variants.items()}
+    intervals = ablation_intervals(gains, parameters, reference=args.variants[0])
+    rows = [{key: round(value, 3) if isinstance(value, float) else value
+             for key, value in row.items()} for row in intervals]  # fmt: skip
     print(f"\n{args.steps} steps, seeds {args.seeds}, first {args.frames} frames of every test "
-          "sequence; gain over the blurred input, mean [min, max] over seeds:")  # fmt: skip
-    for name in args.variants:
-        values = np.array(gains[name])
-        line = f"  {name:16s} {values.mean():+.2f} dB [{values.min():+.2f}, {values.max():+.2f}]"
-        if name != first:
-            interval = paired_interval(values - np.array(gains[first]), method="t")
-            line += (f"; minus {first}: {interval.mean:+.2f} dB, 95 % t-interval "
-                     f"[{interval.low:+.2f}, {interval.high:+.2f}]")  # fmt: skip
-        print(line)
+          f"sequence ({trained:.0f} s of training); gains over the blurred input, dB:")  # fmt: skip
+    markdown, _ = save_table(rows, args.out, "video_ablation", INTERVAL_COLUMNS,
+                             caption="Video network variants (measured)")
+    print(markdown.read_text())
 
 
 if __name__ == "__main__":

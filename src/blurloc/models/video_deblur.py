@@ -18,7 +18,7 @@ previous features). Flags switch off the auxiliary state, the blending or the re
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 
 import torch
 import torch.nn.functional as F
@@ -154,3 +154,35 @@ class VideoDeblurNet(nn.Module):
 def parameter_count(model: nn.Module) -> int:
     """Number of trainable parameters."""
     return sum(p.numel() for p in model.parameters() if p.requires_grad)
+
+
+def matched_blocks(config: VideoDeblurConfig, parameters: int) -> VideoDeblurConfig:
+    """``config`` with the number of residual blocks in eq. 8's recurrence whose parameter
+    count lies nearest to ``parameters``.
+
+    An ablation that removes a part of the network (the auxiliary state of eq. 9, the blending
+    of eq. 10, the recurrence) also removes its parameters; given the blocks back, the ablated
+    network competes with the full one at (nearly) equal capacity, so that a difference
+    between them is the part's, not the parameter count's.
+
+    Parameters
+    ----------
+    config : VideoDeblurConfig
+        The variant (its ``blocks`` is replaced).
+    parameters : int
+        The count to match, e.g. ``parameter_count(VideoDeblurNet())``.
+
+    Returns
+    -------
+    VideoDeblurConfig
+        The variant with 1 to ``config.blocks + 8`` blocks, whichever is nearest.
+
+    Raises
+    ------
+    ValueError
+        If ``parameters`` is not positive.
+    """
+    if parameters < 1:
+        raise ValueError(f"parameters must be positive, got {parameters}")
+    candidates = [replace(config, blocks=blocks) for blocks in range(1, config.blocks + 9)]
+    return min(candidates, key=lambda c: abs(parameter_count(VideoDeblurNet(c)) - parameters))

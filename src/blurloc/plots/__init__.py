@@ -42,11 +42,17 @@ from .standin import (
     plot_trajectories,
 )
 from .style import figure_style, save_figure
-from .video import plot_attention, plot_training_curves, plot_video_network
+from .video import (
+    plot_ablation_intervals,
+    plot_attention,
+    plot_training_curves,
+    plot_video_network,
+)
 
 __all__ = [
     "blur_spectrum_explorer",
     "figure_style",
+    "plot_ablation_intervals",
     "plot_architecture",
     "plot_attention",
     "plot_blur_histogram",

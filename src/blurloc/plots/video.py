@@ -1,5 +1,5 @@
 """Figures of video deblurring (notebook 03): the recurrent network of eq. 8-11 (Fig. 4), training
-curves and the blending weights."""
+curves, the blending weights and the ablations' intervals."""
 
 from __future__ import annotations
 
@@ -164,4 +164,50 @@ def plot_attention(frame: np.ndarray, weights: np.ndarray, restored: np.ndarray)
     axes[1].axis("off")
     figure.colorbar(shown, ax=axes[1], fraction=0.04)
     image_axis(axes[2], restored, "restored $L_t$")
+    return figure
+
+
+@styled
+def plot_ablation_intervals(gains: dict[str, dict[int, float]], rows: list[dict]) -> plt.Figure:
+    """The video network's ablations: each variant's gain over the blurred input per seed, and
+    its paired difference to the full network with the confidence interval.
+
+    Parameters
+    ----------
+    gains : dict
+        Variant -> {seed: gain over the blurred input (dB)}.
+    rows : list of dict
+        Rows of :func:`blurloc.experiments.video_ablation.ablation_intervals` (``variant``,
+        ``parameters``, ``gain_mean`` and, but for the reference, ``minus_reference``,
+        ``ci_low``, ``ci_high``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Left: one dot per seed and the mean (bar); right: the difference to the reference with
+        its interval (green when wholly below zero: the removed part helps; red when above).
+
+    References
+    ----------
+    Eq. 8-11 of the paper (the parts removed: recurrence, eq. 9, eq. 10).
+    """
+    names = [row["variant"] for row in rows]
+    labels = [f"{row['variant']}\n({row['parameters'] / 1000:.0f} k)" for row in rows]
+    figure, axes = plt.subplots(1, 2, figsize=(9, 1.2 + 0.5 * len(rows)), sharey=True,
+                                layout="constrained")  # fmt: skip
+    for y, row in enumerate(rows):
+        values = list(gains[row["variant"]].values())
+        axes[0].barh(y, row["gain_mean"], color="#9bc", height=0.6)
+        axes[0].plot(values, [y] * len(values), "o", color="#235", ms=4)
+        if "minus_reference" in row:
+            low, high, mean = row["ci_low"], row["ci_high"], row["minus_reference"]
+            colour = "#2a7" if high < 0 else "#c33" if low > 0 else "#555"
+            axes[1].errorbar(mean, y, xerr=[[mean - low], [high - mean]], fmt="o",
+                             color=colour, capsize=3)  # fmt: skip
+    axes[0].axvline(0, color="black", linewidth=0.8)
+    axes[0].set_xlabel("PSNR gain over the blurred input (dB)")
+    axes[0].set_yticks(range(len(names)), labels)
+    axes[0].invert_yaxis()
+    axes[1].axvline(0, color="black", linewidth=0.8)
+    axes[1].set_xlabel(f"minus {rows[0]['variant']} (dB, 95 % t-interval)")
     return figure
