@@ -2,23 +2,27 @@
 seeds, scored on the stand-in's test sequences, with the paired difference to the first variant.
 
     python benchmarks/ablate_video_deblur.py --root data/standin [--variants full half_resolution]
-        [--seeds 0 1 2] [--steps 400] [--frames 100] [--out build/video_ablation] [--workers 2]
+        [--seeds 0 1 2] [--steps 400 [1600]] [--frames 100] [--out build/video_ablation]
+        [--workers 2]
 
 Each variant is trained as notebook 03 trains its ablations (``VideoTrainConfig`` with ``--steps``
-optimiser steps, on the first 250 frames of every training sequence), once per seed, and scored
-on the first ``--frames`` frames of every test sequence (PSNR against the sharp renders; mean of
-the per-scene means). Printed: each variant's parameter count, its gain over the blurred input
-per seed and over seeds, and for every other variant its paired difference to the first (same
-seeds) with a 95 % t-interval. Finished trainings in ``--out`` are reused. Variants: notebook
-03's four at equal parameter count (``full``, ``no_aux``, ``no_blending``, ``single_frame``),
-and ``half_resolution`` (features at half instead of quarter resolution) and ``wide`` (48
-channels, hidden state 32), which change the capacity on purpose.
+optimiser steps, on the first 250 frames of every training sequence, in ``--workers`` one-thread
+processes), once per seed and per training length (labelled ``<variant>@<steps>``), and scored on
+the first ``--frames`` frames of every test sequence (PSNR against the sharp renders; mean of the
+per-scene means). Printed: each variant's gain over the blurred input per seed, and a table of
+its parameter count, its mean and spread over seeds and its paired difference to the reference
+(the first variant at the first training length; same seeds) with a 95 % t-interval. Finished
+trainings in ``--out`` are reused. Variants: notebook 03's four at equal parameter count
+(``full``, ``no_aux``, ``no_blending``, ``single_frame``), and ``half_resolution`` (features at
+half instead of quarter resolution) and ``wide`` (48 channels, hidden state 32), which change
+the capacity on purpose.
 """
 
 from __future__ import annotations
 
 import argparse
 import time
+from dataclasses import replace
 
 from blurloc.experiments.video_ablation import (
     INTERVAL_COLUMNS,
@@ -44,7 +48,8 @@ def main() -> None:
     parser.add_argument("--variants", nargs="+", default=["full", "half_resolution"],
                         choices=sorted(VARIANTS))  # fmt: skip
     parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
-    parser.add_argument("--steps", type=int, default=400)
+    parser.add_argument("--steps", nargs="+", type=int, default=[400],
+                        help="training lengths; every variant is trained with each")  # fmt: skip
     parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
     parser.add_argument("--out", default="build/video_ablation")
     parser.add_argument("--workers", type=int, default=2, help="processes that train at once")
@@ -52,21 +57,27 @@ def main() -> None:
     if len(args.seeds) < 2:
         parser.error("--seeds: at least two, for a paired interval")
 
-    variants = {name: VARIANTS[name] for name in args.variants}
-    budget = VideoTrainConfig(steps=args.steps, validate_every=100)
-    started = time.perf_counter()
-    runs = train_ablations(args.root, variants, args.seeds, budget, f"{args.out}/steps{args.steps}",
-                           frames_per_sequence=250, workers=args.workers)
-    trained = time.perf_counter() - started
+    started, runs, parameters = time.perf_counter(), [], {}
+    for steps in args.steps:
+        variants = {name: VARIANTS[name] for name in args.variants}
+        budget = VideoTrainConfig(steps=steps, validate_every=100)
+        trained = train_ablations(args.root, variants, args.seeds, budget,
+                                  f"{args.out}/steps{steps}", frames_per_sequence=250,
+                                  workers=args.workers)  # fmt: skip
+        for run in trained:  # variants labelled with their training length
+            label = f"{run.variant}@{steps}"
+            runs.append(replace(run, variant=label))
+            parameters[label] = parameter_count(VideoDeblurNet(variants[run.variant]))
+    seconds = time.perf_counter() - started
     gains, _ = ablation_gains(args.root, runs, frames_per_sequence=args.frames)
     for name, by_seed in gains.items():
-        print(f"{name:16s} " + ", ".join(f"seed {s}: {g:+.2f} dB" for s, g in by_seed.items()))
-    parameters = {name: parameter_count(VideoDeblurNet(c)) for name, c in variants.items()}
-    intervals = ablation_intervals(gains, parameters, reference=args.variants[0])
+        print(f"{name:20s} " + ", ".join(f"seed {s}: {g:+.2f} dB" for s, g in by_seed.items()))
+    intervals = ablation_intervals(gains, parameters, reference=runs[0].variant,
+                                   below="below the reference", above="above the reference")
     rows = [{key: round(value, 3) if isinstance(value, float) else value
              for key, value in row.items()} for row in intervals]  # fmt: skip
-    print(f"\n{args.steps} steps, seeds {args.seeds}, first {args.frames} frames of every test "
-          f"sequence ({trained:.0f} s of training); gains over the blurred input, dB:")  # fmt: skip
+    print(f"\nsteps {args.steps}, seeds {args.seeds}, first {args.frames} frames of every test "
+          f"sequence ({seconds:.0f} s of training); gains over the blurred input, dB:")  # fmt: skip
     markdown, _ = save_table(rows, args.out, "video_ablation", INTERVAL_COLUMNS,
                              caption="Video network variants (measured)")
     print(markdown.read_text())

@@ -70,6 +70,8 @@ def test_intervals_pair_by_seed_and_word_the_verdict_from_the_interval() -> None
     assert rows["better"]["verdict"] == "the part hurts"
     assert rows["noisy"]["ci_low"] < 0 < rows["noisy"]["ci_high"]
     assert rows["noisy"]["verdict"].startswith("too small to resolve at this power (±")
+    worded = ablation_intervals(gains, dict.fromkeys(gains, 100), below="lower", above="higher")
+    assert [r.get("verdict") for r in worded][1:3] == ["lower", "higher"]
     with pytest.raises(ValueError, match="paired"):
         ablation_intervals({"full": full, "other": {0: 0.1, 1: 0.2}}, {"full": 1, "other": 1})
     with pytest.raises(ValueError, match="reference"):

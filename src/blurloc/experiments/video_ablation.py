@@ -194,6 +194,8 @@ def ablation_intervals(
     parameters: dict[str, int],
     reference: str = "full",
     unit: str = "dB",
+    below: str = "the part helps",
+    above: str = "the part hurts",
 ) -> list[dict]:
     """Each variant's gain over the blurred input across seeds, and its paired difference to
     ``reference`` (same seeds) with a 95 % Student t-interval.
@@ -209,15 +211,17 @@ def ablation_intervals(
         The variant the others are compared with.
     unit : str
         Unit of the gains, used in the verdict.
+    below, above : str
+        The verdict when the whole interval lies below zero (the variant gains less than the
+        reference: for an ablation, the removed part helps) or above it.
 
     Returns
     -------
     list of dict
         One row per variant: ``variant``, ``parameters``, ``seeds``, ``gain_mean``,
         ``gain_min``, ``gain_max`` and, except for ``reference``, ``minus_reference``,
-        ``ci_low``, ``ci_high`` and ``verdict`` ("the part helps" when the whole interval lies
-        below zero, "the part hurts" when above, otherwise "too small to resolve at this
-        power (±x)").
+        ``ci_low``, ``ci_high`` and ``verdict`` (``below`` when the whole interval lies below
+        zero, ``above`` when above, otherwise "too small to resolve at this power (±x)").
 
     Raises
     ------
@@ -241,9 +245,9 @@ def ablation_intervals(
             differences = values - np.array([gains[reference][seed] for seed in seeds])
             interval = paired_interval(differences, method="t")
             if interval.high < 0:
-                verdict = "the part helps"
+                verdict = below
             elif interval.low > 0:
-                verdict = "the part hurts"
+                verdict = above
             else:
                 verdict = f"too small to resolve at this power (±{interval.half_width:.2g} {unit})"
             row.update(minus_reference=interval.mean, ci_low=interval.low,
