@@ -58,6 +58,7 @@ def main() -> None:
     parser.add_argument("--scenes", nargs="+", default=["heads", "fire"])
     parser.add_argument("--sequence", type=int, default=1, help="sequence number rendered")
     parser.add_argument("--seeds", type=int, default=3)
+    parser.add_argument("--epochs", type=int, help="passed to train-pose (default: its own)")
     parser.add_argument("--work", type=Path, default=Path("/tmp/one-sequence"))
     parser.add_argument("--route-share", type=float, default=SynthConfig().route_share,
                         help="part of the walk on the scene's shared route")  # fmt: skip
@@ -85,9 +86,11 @@ def main() -> None:
         for seed in range(args.seeds):
             out = args.work / "models" / f"{scene}-seed{seed}"
             start = time.perf_counter()
-            subprocess.run([str(BLURLOC), "train-pose", "--data", str(cut_root),
-                            "--scene", scene, "--out", str(out), "--seed", str(seed), "--quiet"],
-                           check=True)  # fmt: skip
+            command = [str(BLURLOC), "train-pose", "--data", str(cut_root), "--scene", scene,
+                       "--out", str(out), "--seed", str(seed), "--quiet"]  # fmt: skip
+            if args.epochs is not None:
+                command += ["--epochs", str(args.epochs)]
+            subprocess.run(command, check=True)
             seconds = time.perf_counter() - start
             predicted = predict_test_frames(out / "best.pt", cut_root, scene)
             rows.append({
