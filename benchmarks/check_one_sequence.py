@@ -1,7 +1,7 @@
 """Do the pose regressor's defaults learn from one 7-Scenes-length recording at 640x480?
 
     python benchmarks/check_one_sequence.py [--scenes heads fire] [--sequence 1] [--seeds 3]
-                                            [--work /tmp/one] [--route-share 0]
+                                            [--work /tmp/one] [--route-share 0] [--epochs N]
 
 A user with one real 1000-frame 7-Scenes sequence cuts it into 800 training and 200 test frames and
 runs ``blurloc train-pose`` with its defaults (blurred input, LSTM head, the reader resizing each
