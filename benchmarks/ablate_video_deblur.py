@@ -57,9 +57,9 @@ def main() -> None:
     if len(args.seeds) < 2:
         parser.error("--seeds: at least two, for a paired interval")
 
+    variants = {name: VARIANTS[name] for name in args.variants}
     started, runs, parameters = time.perf_counter(), [], {}
     for steps in args.steps:
-        variants = {name: VARIANTS[name] for name in args.variants}
         budget = VideoTrainConfig(steps=steps, validate_every=100)
         trained = train_ablations(args.root, variants, args.seeds, budget,
                                   f"{args.out}/steps{steps}", frames_per_sequence=250,

@@ -19,7 +19,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from ..inference import VideoRestorer
-from ..intervals import paired_interval
+from ..intervals import paired_interval, verdict
 from ..models.video_deblur import VideoDeblurConfig, VideoDeblurNet, matched_blocks, parameter_count
 from ..train.config import VideoTrainConfig
 from ..train.loop import parallel_map
@@ -244,13 +244,9 @@ def ablation_intervals(
         if name != reference:
             differences = values - np.array([gains[reference][seed] for seed in seeds])
             interval = paired_interval(differences, method="t")
-            if interval.high < 0:
-                verdict = below
-            elif interval.low > 0:
-                verdict = above
-            else:
-                verdict = f"too small to resolve at this power (±{interval.half_width:.2g} {unit})"
-            row.update(minus_reference=interval.mean, ci_low=interval.low,
-                       ci_high=interval.high, verdict=verdict)  # fmt: skip
+            worded = {"reproduced": below, "contradicted": above}  # a claim that it is lower
+            unresolved = f"too small to resolve at this power (±{interval.half_width:.2g} {unit})"
+            row.update(minus_reference=interval.mean, ci_low=interval.low, ci_high=interval.high,
+                       verdict=worded.get(verdict(interval, claimed_sign=-1), unresolved))
         rows.append(row)
     return rows
