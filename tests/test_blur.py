@@ -17,6 +17,7 @@ from blurloc.blur import (
     fit_length_model,
     log_power_spectrum,
     motion_kernel,
+    shake_path,
     to_gray,
     trajectory_kernel,
 )
@@ -54,6 +55,23 @@ def test_trajectory_kernel_of_a_straight_path_is_the_linear_kernel() -> None:
     np.testing.assert_allclose(
         trajectory_kernel(diagonal, size=15), motion_kernel(8 * np.sqrt(2), 135, size=15), atol=3e-3
     )
+
+
+def test_shake_paths_span_their_extent_and_differ_in_shape() -> None:
+    rng = np.random.default_rng(3)
+    paths = [shake_path(extent, rng) for extent in (11.0, 17.0, 25.0)]
+    for path, extent in zip(paths, (11.0, 17.0, 25.0), strict=True):
+        assert path.shape == (500, 2)
+        np.testing.assert_allclose(np.ptp(path, axis=0).max(), extent)
+        kernel = trajectory_kernel(path)
+        assert kernel.shape[0] <= 2 * extent + 5 and np.isclose(kernel.sum(), 1.0)
+    # equal speed along the path, but not a straight segment: the travelled length exceeds the
+    # bounding box's diagonal for most draws (camera shake turns)
+    bends = [np.linalg.norm(np.diff(p, axis=0), axis=1).sum() / np.linalg.norm(np.ptp(p, axis=0))
+             for p in (shake_path(15.0, rng) for _ in range(20))]  # fmt: skip
+    assert np.median(bends) > 1.2
+    assert not np.allclose(shake_path(15.0, np.random.default_rng(0)),
+                           shake_path(15.0, np.random.default_rng(1)))  # fmt: skip
 
 
 def test_blur_model_wrap_equals_fft_convolution() -> None:
@@ -156,6 +174,7 @@ def test_shipped_length_model_reads_the_features() -> None:
         (lambda: blur_image(np.ones((8, 8), np.int64), motion_kernel(3, 0)), "unsupported dtype"),
         (lambda: blur_image(np.ones((8, 8)), motion_kernel(3, 0), boundary="zero"), "boundary"),
         (lambda: estimate_motion_blur(np.ones((10, 500))), "too small"),
+        (lambda: shake_path(0.0, np.random.default_rng(0)), "extent_px must be > 0"),
     ],
     ids=[
         "zero-length",
@@ -168,6 +187,7 @@ def test_shipped_length_model_reads_the_features() -> None:
         "int64",
         "bad-boundary",
         "too-small-to-estimate",
+        "zero-shake",
     ],
 )
 def test_bad_input_is_refused(call, message: str) -> None:

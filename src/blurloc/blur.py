@@ -81,6 +81,56 @@ def trajectory_kernel(
     return _splat(points, weight, size or needed)
 
 
+def shake_path(extent_px: float, rng: np.random.Generator, steps: int = 500) -> np.ndarray:
+    """A random hand-shake path over one exposure, for kernels like those of real camera shake.
+
+    Boracchi and Foi's model: a point moves at constant speed; at each step its velocity is
+    pushed by a Gaussian term and pulled back towards the start (a centripetal term), both
+    scaled by a random "anxiety", and now and then reversed by an abrupt shake. The shape's
+    parameters are drawn per path from ``rng``; the path is then scaled so that the longer side
+    of its bounding box is ``extent_px``.
+
+    Parameters
+    ----------
+    extent_px : float
+        Longer side of the path's bounding box, px (> 0).
+    rng : numpy.random.Generator
+        Source of the path's shape.
+    steps : int
+        Positions along the path (>= 2).
+
+    Returns
+    -------
+    numpy.ndarray
+        (steps, 2) positions (x right, y down, px) at equal time steps, for
+        :func:`trajectory_kernel`.
+
+    References
+    ----------
+    Boracchi and Foi, "Modeling the performance of image restoration from motion blur", IEEE
+    Trans. Image Process. 21(8), 2012 (the trajectory generator of Section IV).
+    """
+    if not np.isfinite(extent_px) or extent_px <= 0:
+        raise ValueError(f"extent_px must be > 0, got {extent_px}")
+    if steps < 2:
+        raise ValueError(f"steps must be >= 2, got {steps}")
+    anxiety, centripetal = 0.1 * rng.random(), 0.7 * rng.random()
+    gaussian, abrupt = 10.0 * rng.random(), 0.2 * rng.random()
+    speed = 1.0 / (steps - 1)
+    velocity = speed * np.exp(2j * np.pi * rng.random())
+    points = np.zeros(steps, complex)
+    for step in range(steps - 1):
+        push = (anxiety * (gaussian * complex(*rng.normal(size=2)) - centripetal * points[step])
+                * speed)  # fmt: skip
+        if rng.random() < abrupt * anxiety:  # an abrupt shake turns the motion about
+            push += 2.0 * velocity * np.exp(1j * (np.pi + rng.random() - 0.5))
+        velocity += push
+        velocity *= speed / max(abs(velocity), 1e-12)
+        points[step + 1] = points[step] + velocity
+    path = np.column_stack([points.real, points.imag])
+    return (path - path.min(axis=0)) * (extent_px / np.ptp(path, axis=0).max())
+
+
 def check_kernel(kernel: np.ndarray, image_shape: tuple[int, ...] | None = None) -> np.ndarray:
     """A kernel as float64 normalised to sum 1, or a ValueError saying what is wrong."""
     kernel = np.asarray(kernel, float)
