@@ -117,14 +117,16 @@ def _photo(name: str) -> np.ndarray:
     return image.astype(np.float64) / (255.0 if image.max() > 1 else 1.0)
 
 
-def photo_training_set(count: int = 1500, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+def photo_training_set(
+    count: int = 1500, seed: int = 0, max_length_px: float = 24.0
+) -> tuple[np.ndarray, np.ndarray]:
     """Examples for the length model from photographs, so that it does not learn the stand-in's
     textures only.
 
     Each example: one of TRAINING_PHOTOS, area-resized to a short side of 120-480 px; blurred
-    (a quarter of them not at all) along a slightly bent path of 0.5-12 px at the analysis scale
-    in a random direction (:func:`~blurloc.blur.trajectory_kernel`); Gaussian noise of σ 0.003 or
-    0.01; 8 bits.
+    (a quarter of them not at all) along a slightly bent path of 0.5 to ``max_length_px`` px at
+    the analysis scale in a random direction (:func:`~blurloc.blur.trajectory_kernel`);
+    Gaussian noise of σ 0.003 or 0.01; 8 bits.
 
     Parameters
     ----------
@@ -132,6 +134,10 @@ def photo_training_set(count: int = 1500, seed: int = 0) -> tuple[np.ndarray, np
         Number of examples.
     seed : int
         Seed of the sizes, paths and noise.
+    max_length_px : float
+        Longest path, px at the analysis scale: 24 covers the blur the estimator is for (up to
+        15 px at 160x120 and 40 px at 640x480, 20 px at the analysis scale), so that the
+        length model does not underestimate long blur.
 
     Returns
     -------
@@ -151,7 +157,7 @@ def photo_training_set(count: int = 1500, seed: int = 0) -> tuple[np.ndarray, np
         scale = max(1.0, side / ANALYSIS_SIDE)
         extent = 0.0
         if rng.random() >= 0.25:
-            length, angle = rng.uniform(0.5, 12.0) * scale, rng.uniform(0, np.pi)
+            length, angle = rng.uniform(0.5, max_length_px) * scale, rng.uniform(0, np.pi)
             t = np.linspace(-0.5, 0.5, 20)
             bend = rng.normal(0.0, 0.1)
             path = length * np.column_stack([t * np.cos(angle), -t * np.sin(angle) + bend * t**2])
