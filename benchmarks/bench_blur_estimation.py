@@ -13,12 +13,14 @@ depth) of the estimate and of the variance of the Laplacian. ROOT is a rendered 
 given and on blurred photographs (``photo_training_set``), writes it to
 ``blurloc.blur.LENGTH_MODEL_PATH`` and prints the detector threshold chosen on the stand-in's
 training examples at their own scale (frames with >= 3 px against sharp renders and frames under
-1.5 px, the two sharp groups counted equally). The shipped model: ``--fit data/standin ROOT640
-ROOT640B --budget 6000``, where ``data/standin`` is the full default render (notebook 00; about
-6,000 of its training frames are read), ROOT640 holds 640x480 renders of two scenes (``blurloc
-synth --out ROOT640 --width 640 --height 480 --frames 12 --scenes chess office``) and ROOT640B
-of all seven with another seed (``blurloc synth --out ROOT640B --width 640 --height 480 --frames
-16 --seed 1``), so that the model sees both scales.
+1.5 px, the two sharp groups counted equally). The shipped model: ``--fit data/standin R640_S0
+R640_S1 --budget 6000``, where ``data/standin`` is the full default render (notebook 00; about
+6,000 of its training frames are read), R640_S0 holds 640x480 renders of two scenes (``blurloc
+synth --out R640_S0 --width 640 --height 480 --frames 12 --scenes chess office``) and R640_S1
+of all seven with another seed (``blurloc synth --out R640_S1 --width 640 --height 480 --frames
+16 --seed 1``), so that the model sees both scales. Its 640x480 check used two more renders
+made the same way, neither fitted on: seed 3 to choose ``blurloc.blur.SINC_AGREEMENT``, seed 2
+(``--root R640_S2``) to measure.
 """
 
 from __future__ import annotations

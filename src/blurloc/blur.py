@@ -427,12 +427,13 @@ _ANGLES, _RADII = 36, 14  # polar bins of the half-plane spectrum: 5° sectors, 
 LENGTH_MODEL_PATH = Path(__file__).parent / "weights" / "blur_length.npz"
 #: Coarse estimates at least this long (px of the image given) are refined from the sinc zeros.
 SINC_MIN_PX = 6.0
-#: The refined length is kept only within these factors of the coarse one. Chosen among seven
-#: bands on held-out examples (a 640x480 stand-in render of seed 3 and line-blurred photo crops,
-#: neither fitted nor tested on): a lower factor of 0.67 instead of 0.5 lifted the 640x480 rank
-#: correlation from 0.84 to 0.87 (below it the sinc fit locks onto content or noise, which 3-D
-#: camera blur leaves without clear zeros), and an upper factor of 2 instead of 1.5 halved the
-#: photo crops' median length error (0.48 to 0.27 px; beyond 2 lie multiples of the length).
+#: The refined length is kept only within these factors of the coarse one. Chosen among eleven
+#: bands on held-out examples (``benchmarks/choose_sinc_agreement.py``: a 640x480 stand-in
+#: render of seed 3 and line-blurred photo crops, neither fitted nor tested on): a lower factor
+#: of 0.67 instead of 0.5 lifted the 640x480 rank correlation from 0.84 to 0.87 (below it the
+#: sinc fit locks onto content or noise, which 3-D camera blur leaves without clear zeros), and
+#: an upper factor of 2 instead of 1.5 halved the photo crops' median length error (0.48 to
+#: 0.27 px; beyond 2 lie multiples of the length).
 SINC_AGREEMENT = (0.67, 2.0)
 
 
@@ -750,7 +751,10 @@ def detect_blur(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> tuple[b
 
 
 def estimate_motion_blur(
-    image: np.ndarray, window: int = 256, features: BlurFeatures | None = None
+    image: np.ndarray,
+    window: int = 256,
+    features: BlurFeatures | None = None,
+    agreement: tuple[float, float] = SINC_AGREEMENT,
 ) -> BlurEstimate:
     """Blind estimate of the length and angle of motion blur, from 1 px to tens of px.
 
@@ -761,7 +765,7 @@ def estimate_motion_blur(
     radial mean, searched by Radon projection (3° grid within 12° of the coarse direction,
     refined to 0.1°) and fitted by log sinc^2(L r / N) (L on a 0.5 px grid, refined to
     0.02 px); kept when it agrees with the coarse estimate (SINC_AGREEMENT: 0.67 to 2 times its
-    length; direction within 20°), which rejects the zeros of content or noise.
+    length by default; direction within 20°), which rejects the zeros of content or noise.
 
     Parameters
     ----------
@@ -771,6 +775,8 @@ def estimate_motion_blur(
         Tile size (px) of the spectrum used for the fine estimate.
     features : BlurFeatures, optional
         ``blur_features(image)`` when the caller has them already (blind deblurring).
+    agreement : tuple of float
+        (low, high): the refined length is kept only within these factors of the coarse one.
 
     Returns
     -------
@@ -798,7 +804,7 @@ def estimate_motion_blur(
         fine *= factor
         fine_angle = float(np.degrees(np.arctan2(-np.sin(direction), np.cos(direction))) % 180.0)
         turn = abs(fine_angle - angle) % 180.0
-        low, high = SINC_AGREEMENT
+        low, high = agreement
         if low * length <= fine <= high * length and min(turn, 180.0 - turn) <= 20.0:
             return BlurEstimate(length_px=fine, angle_deg=fine_angle, fit=fit)
     return BlurEstimate(length_px=length, angle_deg=angle, fit=0.0)
