@@ -1,17 +1,19 @@
 """Deblurring speed and quality on 640x480 frames.
 
     python benchmarks/bench_deblur.py [--images 6] [--kernels 5] [--repeats 15]
+                                      [--quality-size 640 480]
 
 Prints (1) the time of blind deblurring (detect -> estimate -> Wiener, ``deblur_blind``) of a
 640x480 RGB frame, its parts, and scikit-image's ``wiener`` on the same frame and kernel for
 scale (target for blind deblurring: <= 30 ms on 2 cores; medians over the repeats, with the
 machine's load average printed beside them), and (2) non-blind PSNR of this package's Wiener
 filter (NSR estimated from the noise, not tuned per image) against scikit-image's ``wiener`` at
-its best ``balance`` (swept per trial) and ``unsupervised_wiener``: gray 640x480 photographs
-(scikit-image's bundled ones, resized), each blurred by ``--kernels`` random line kernels and
-as many random camera-shake kernels (:func:`blurloc.blur.shake_path`, shaped like Levin et
-al.'s recorded ones), noise σ = 0.01; per kind, the mean gain over scikit-image with a 95 %
-bootstrap interval over the trials (target: >= +1 dB).
+its best ``balance`` (swept per trial) and ``unsupervised_wiener``: gray photographs
+(scikit-image's bundled ones, resized to 640x480, or to ``--quality-size``: 255 255 is the size
+of Levin et al.'s test images), each blurred by ``--kernels`` random line kernels and as many
+random camera-shake kernels (:func:`blurloc.blur.shake_path`, shaped like Levin et al.'s
+recorded ones), noise σ = 0.01; per kind, the mean gain over scikit-image with a 95 % bootstrap
+interval over the trials (target: >= +1 dB).
 """
 
 from __future__ import annotations
@@ -42,10 +44,10 @@ PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "immunohistochemistry", "h
 BALANCES = (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0)
 
 
-def frame(name: str) -> np.ndarray:
-    """A bundled photograph as a 640x480 RGB float image in [0, 1]."""
+def frame(name: str, size: tuple[int, int] = (640, 480)) -> np.ndarray:
+    """A bundled photograph as an RGB float image in [0, 1] of ``size`` (width, height)."""
     image = getattr(skimage.data, name)().astype(np.float64) / 255.0
-    return cv2.resize(image, (640, 480), interpolation=cv2.INTER_AREA)
+    return cv2.resize(image, size, interpolation=cv2.INTER_AREA)
 
 
 def median_ms(call: Callable[[], object], repeats: int) -> float:
@@ -65,13 +67,16 @@ KERNEL_KINDS = {
 }
 
 
-def quality_rows(kind: str, images: int, kernels: int, rng: np.random.Generator) -> list[dict]:
+def quality_rows(
+    kind: str, images: int, kernels: int, rng: np.random.Generator, size: tuple[int, int]
+) -> list[dict]:
     """PSNR (dB) of the blurred photo, this package's Wiener (NSR estimated from the noise),
     scikit-image's ``wiener`` at its best ``balance`` (swept per trial, an oracle) and
-    ``unsupervised_wiener``, for ``kernels`` random kernels of ``kind`` on each photo."""
+    ``unsupervised_wiener``, for ``kernels`` random kernels of ``kind`` on each photo, resized
+    to ``size`` (width, height)."""
     rows = []
     for name in PHOTOS[:images]:
-        sharp = frame(name).mean(axis=2)
+        sharp = frame(name, size).mean(axis=2)
         for _ in range(kernels):
             if kind == "line":
                 kernel = motion_kernel(rng.uniform(7, 27), rng.uniform(0, 180))
@@ -95,6 +100,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--images", type=int, default=len(PHOTOS))
     parser.add_argument("--kernels", type=int, default=5, help="kernels of each kind per photo")
+    parser.add_argument("--quality-size", type=int, nargs=2, default=(640, 480),
+                        metavar=("WIDTH", "HEIGHT"),
+                        help="size of the photos in the quality part (255 255: Levin et al.'s)")
     parser.add_argument("--repeats", type=int, default=15)
     args = parser.parse_args()
     rng = np.random.default_rng(0)
@@ -119,11 +127,12 @@ def main() -> None:
         print(f"  {label:30s} {median_ms(call, args.repeats):6.1f} ms")
     print("  (target for blind deblurring: <= 30 ms on 2 cores)")
 
-    print(f"non-blind, σ = 0.01, gray 640x480, {args.images} photos x {args.kernels} kernels "
-          "of each kind; PSNR dB (mean) and blurloc minus scikit-image's best balance (mean, "
-          "95 % bootstrap interval over the trials):")
+    size = tuple(args.quality_size)
+    print(f"non-blind, σ = 0.01, gray {size[0]}x{size[1]}, {args.images} photos x "
+          f"{args.kernels} kernels of each kind; PSNR dB (mean) and blurloc minus "
+          "scikit-image's best balance (mean, 95 % bootstrap interval over the trials):")
     for kind in ("line", "shake"):
-        rows = quality_rows(kind, args.images, args.kernels, rng)
+        rows = quality_rows(kind, args.images, args.kernels, rng, size)
         mean = {key: np.mean([r[key] for r in rows]) for key in rows[0]}
         gain = paired_interval(np.array([r["ours"] - r["skimage_best"] for r in rows]))
         print(f"  {KERNEL_KINDS[kind]}: blurred {mean['blurred']:.2f}, blurloc {mean['ours']:.2f}, "
