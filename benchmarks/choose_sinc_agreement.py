@@ -24,7 +24,7 @@ from scipy.stats import spearmanr
 
 from blurloc.blur import blur_features, blur_image, estimate_motion_blur, motion_kernel
 from blurloc.data.sevenscenes import read_image
-from blurloc.experiments.blur_estimation import _frames
+from blurloc.experiments.blur_estimation import recorded_frames
 from blurloc.experiments.estimation import angle_error_deg, photo_crops
 from blurloc.tables import save_table
 
@@ -52,7 +52,7 @@ def main() -> None:
     args = parser.parse_args()
 
     frames = [(read_image(sequence.path(record["frame"], "color")), record["mean_px"])
-              for record, sequence in _frames(args.root, "train")]  # fmt: skip
+              for record, sequence in recorded_frames(args.root, "train")]  # fmt: skip
     photos = photo_examples(args.photos, seed=13)
     frame_features = [blur_features(image) for image, _ in frames]
     photo_features = [blur_features(image) for image, _, _ in photos]

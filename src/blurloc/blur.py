@@ -108,7 +108,7 @@ def shake_path(extent_px: float, rng: np.random.Generator, steps: int = 500) -> 
     References
     ----------
     Boracchi and Foi, "Modeling the performance of image restoration from motion blur", IEEE
-    Trans. Image Process. 21(8), 2012 (the trajectory generator of Section IV).
+    Trans. Image Process. 21(8), 2012 (their random trajectory generator).
     """
     if not np.isfinite(extent_px) or extent_px <= 0:
         raise ValueError(f"extent_px must be > 0, got {extent_px}")

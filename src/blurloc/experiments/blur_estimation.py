@@ -32,10 +32,27 @@ from ..poses import rotation_angles_deg
 from .estimation import angle_error_deg
 
 
-def _frames(
+def recorded_frames(
     root: str | os.PathLike, split: str, budget: int | None = None
 ) -> list[tuple[dict, SequenceFrames]]:
-    """(blur record, sequence) of the frames of ``split`` that :func:`split_frames` chooses."""
+    """The frames of a stand-in split that a pass reads, each with the blur recorded for it.
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        Stand-in root (with ``blur.csv`` per sequence).
+    split : str
+        ``"train"`` or ``"test"``.
+    budget : int or None
+        About how many frames to read, spread evenly
+        (:func:`~blurloc.data.samples.split_frames`); None reads every frame.
+
+    Returns
+    -------
+    list of tuple
+        (blur record of ``blur.csv``: scene, sequence, frame, mean_px, angle_deg, ...;
+        the frame's :class:`~blurloc.data.sevenscenes.SequenceFrames`).
+    """
     records = {(r["scene"], r["sequence"], r["frame"]): r for r in read_blur_metadata(root)
                if r["split"] == split}  # fmt: skip
     return [(records[(scene, sequence.number, frame)], sequence)
@@ -84,7 +101,7 @@ def length_training_set(
     """
     rng = np.random.default_rng(seed)
     features, extents, first = [], [], {}
-    frames = _frames(root, split, budget)
+    frames = recorded_frames(root, split, budget)
     for index, (record, sequence) in enumerate(tqdm(frames, disable=not progress,
                                                     desc="features")):  # fmt: skip
         found = blur_features(read_image(sequence.path(record["frame"], "color")))
@@ -206,7 +223,7 @@ def estimation_rows(
     """
     rows = []
     kinds = ("color", "sharp") if sharp_renders else ("color",)
-    for record, sequence in tqdm(_frames(root, split, budget), disable=not progress,
+    for record, sequence in tqdm(recorded_frames(root, split, budget), disable=not progress,
                                  desc=f"estimate {split}"):  # fmt: skip
         for kind in kinds:
             image = read_image(sequence.path(record["frame"], kind))
