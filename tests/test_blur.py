@@ -119,6 +119,18 @@ def test_blind_estimate_of_linear_blur(noise: float) -> None:
     assert np.median(length_errors) <= 1.0
 
 
+def test_sinc_refinement_is_kept_only_within_the_agreement_band() -> None:
+    image = blur_image(to_gray(skimage.data.camera()), motion_kernel(20, 40), 0.002,
+                       rng=np.random.default_rng(5))  # fmt: skip
+    features = blur_features(image)
+    refined = estimate_motion_blur(image, features=features)
+    assert refined.fit > 0 and abs(refined.length_px - 20) < 1  # the sinc zeros are read
+    coarse = estimate_motion_blur(image, features=features, agreement=(10.0, 20.0))
+    assert coarse.fit == 0 and coarse.angle_deg == features.angle_deg  # outside the band: coarse
+    assert coarse.length_px == pytest.approx(default_length_model().predict(features.values)[0]
+                                             * features.scale)  # fmt: skip
+
+
 def test_small_trajectory_blur_in_small_frames() -> None:
     """Slightly bent camera paths of 2-10 px on 160x120 photographs, noise σ = 0.01, 8 bits."""
     rng = np.random.default_rng(1)
