@@ -1,14 +1,15 @@
 """How far from the coarse blur length the sinc refinement may go: the choice of SINC_AGREEMENT.
 
-    python benchmarks/choose_sinc_agreement.py --root R640_S3 [--photos 40]
+    python benchmarks/choose_sinc_agreement.py --root R640_S3 [--photos 8]
 
 For each candidate band (low, high), :func:`blurloc.blur.estimate_motion_blur` keeps the length
 refined from the spectrum's sinc zeros only within low-high times the coarse length. Prints,
 per band, on the training split of ROOT (a 640x480 stand-in render that the length model was
 not fitted on: ``blurloc synth --out R640_S3 --width 640 --height 480 --frames 16 --seed 3``)
 the rank correlation of the estimate with the recorded extent and the median length error
-(extents >= 2 px), and on line-blurred photo crops (L 7-27 px, σ 0, 0.005 and 0.01; crops of
-seed 13, not those notebook 01 measures) the median length and angle errors. The shipped band
+(extents >= 2 px), and on line-blurred photo crops (``estimation_trials``: L 7-27 px, σ 0,
+0.005 and 0.01; crops of seed 13, not those notebook 01 measures) the median length and angle
+errors. The shipped band
 (0.67, 2) came from this table: a lower factor below 0.67 costs the 640x480 rank correlation,
 an upper factor under 2 costs the photo crops' length error; the bands with low >= 0.67 and
 high >= 1.5 lie within 0.01 of each other in rank correlation, and (0.67, 2) is the round
@@ -22,63 +23,49 @@ import argparse
 import numpy as np
 from scipy.stats import spearmanr
 
-from blurloc.blur import blur_features, blur_image, estimate_motion_blur, motion_kernel
+from blurloc.blur import blur_features, estimate_motion_blur
 from blurloc.data.sevenscenes import read_image
 from blurloc.experiments.blur_estimation import recorded_frames
-from blurloc.experiments.estimation import angle_error_deg, photo_crops
+from blurloc.experiments.estimation import estimation_trials, photo_crops
 from blurloc.tables import save_table
 
 BANDS = ((0.5, 4.0), (0.5, 3.0), (0.5, 2.0), (0.5, 1.5), (0.6, 2.0), (0.67, 1.5), (0.67, 2.0),
          (0.75, 1.33), (0.75, 2.0), (0.75, 2.5), (0.8, 2.0))  # fmt: skip
-
-
-def photo_examples(count: int, seed: int) -> list[tuple[np.ndarray, float, float]]:
-    """Line-blurred photo crops: (image, length px, angle degrees), three noise levels each."""
-    rng = np.random.default_rng(seed + 100)
-    examples = []
-    for crop in photo_crops(count, 256, seed=seed):
-        for sigma in (0.0, 0.005, 0.01):
-            length, angle = rng.uniform(7, 27), rng.uniform(0, 180)
-            examples.append((blur_image(crop, motion_kernel(length, angle), sigma, rng=rng),
-                             length, angle))  # fmt: skip
-    return examples
+PHOTO_LENGTHS_PX = (7.0, 12.0, 17.0, 22.0, 27.0)
+PHOTO_SIGMAS = (0.0, 0.005, 0.01)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", required=True, help="640x480 stand-in render, not fitted on")
-    parser.add_argument("--photos", type=int, default=40, help="photo crops")
+    parser.add_argument("--photos", type=int, default=8, help="photo crops (x 15 trials)")
     parser.add_argument("--work", default="/tmp/sinc_agreement", help="where the table goes")
     args = parser.parse_args()
 
     frames = [(read_image(sequence.path(record["frame"], "color")), record["mean_px"])
               for record, sequence in recorded_frames(args.root, "train")]  # fmt: skip
-    photos = photo_examples(args.photos, seed=13)
+    crops = photo_crops(args.photos, 256, seed=13)
     frame_features = [blur_features(image) for image, _ in frames]
-    photo_features = [blur_features(image) for image, _, _ in photos]
     extents = np.array([extent for _, extent in frames])
     rows = []
     for band in BANDS:
         lengths = np.array([estimate_motion_blur(image, features=found, agreement=band).length_px
                             for (image, _), found in zip(frames, frame_features, strict=True)])
-        estimates = [estimate_motion_blur(image, features=found, agreement=band)
-                     for (image, _, _), found in zip(photos, photo_features, strict=True)]
-        truth = [(length, angle) for _, length, angle in photos]
-        photo_length = [abs(e.length_px - length)
-                        for e, (length, _) in zip(estimates, truth, strict=True)]  # fmt: skip
-        photo_angle = [angle_error_deg(e.angle_deg, angle)
-                       for e, (_, angle) in zip(estimates, truth, strict=True)]  # fmt: skip
+        trials = estimation_trials(crops, PHOTO_LENGTHS_PX, PHOTO_SIGMAS, seed=13,
+                                   agreement=band)  # the same crops, blur and noise per band
         rows.append({
             "band": f"{band[0]:g}-{band[1]:g}",
             "render_spearman": round(float(spearmanr(lengths, extents).statistic), 3),
             "render_length_error_px": round(float(np.median(
                 np.abs(lengths - extents)[extents >= 2])), 2),
-            "photo_length_error_px": round(float(np.median(photo_length)), 2),
-            "photo_angle_error_deg": round(float(np.median(photo_angle)), 2),
+            "photo_length_error_px": round(float(np.median(
+                [t["length_error_px"] for t in trials])), 2),
+            "photo_angle_error_deg": round(float(np.median(
+                [t["angle_error_deg"] for t in trials])), 2),
         })  # fmt: skip
     save_table(rows, args.work, "sinc_agreement",
                caption=f"SINC_AGREEMENT candidates: {len(frames)} training frames of "
-                       f"{args.root} and {len(photos)} line-blurred photo crops.")  # fmt: skip
+                       f"{args.root} and {len(trials)} line-blurred photo crops.")  # fmt: skip
     print(open(f"{args.work}/sinc_agreement.md").read())
 
 

@@ -9,7 +9,7 @@ import numpy as np
 import skimage.data
 from tqdm.auto import tqdm
 
-from ..blur import blur_image, estimate_motion_blur, motion_kernel
+from ..blur import SINC_AGREEMENT, blur_image, estimate_motion_blur, motion_kernel
 from ..images import as_float_image
 
 #: scikit-image's bundled photographs used as natural test content (gray, [0, 1]).
@@ -71,6 +71,7 @@ def estimation_trials(
     noise_sigmas: Iterable[float],
     seed: int = 0,
     progress: bool = False,
+    agreement: tuple[float, float] = SINC_AGREEMENT,
 ) -> list[dict]:
     """Blur every image by a linear kernel of each length at a random angle, add Gaussian noise
     of each sigma, and estimate length and angle blindly.
@@ -87,6 +88,8 @@ def estimation_trials(
         Seed of the angles and the noise.
     progress : bool
         Show a progress bar.
+    agreement : tuple of float
+        The sinc refinement's band (:func:`~blurloc.blur.estimate_motion_blur`).
 
     Returns
     -------
@@ -105,7 +108,7 @@ def estimation_trials(
     for index, length, sigma in tqdm(trials, disable=not progress, desc="estimation"):
         angle = float(rng.uniform(0, 180))
         blurred = blur_image(images[index], motion_kernel(length, angle), sigma, rng=rng)
-        estimate = estimate_motion_blur(blurred)
+        estimate = estimate_motion_blur(blurred, agreement=agreement)
         rows.append({
             "image": index, "length_px": length, "angle_deg": angle, "noise_sigma": sigma,
             "estimated_length_px": estimate.length_px, "estimated_angle_deg": estimate.angle_deg,
