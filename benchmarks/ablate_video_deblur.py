@@ -13,9 +13,11 @@ per-scene means). Printed: each variant's gain over the blurred input per seed, 
 its parameter count, its mean and spread over seeds and its paired difference to the reference
 (the first variant at the first training length; same seeds) with a 95 % t-interval. Finished
 trainings in ``--out`` are reused. Variants: notebook 03's four at equal parameter count
-(``full``, ``no_aux``, ``no_blending``, ``single_frame``), and ``half_resolution`` (features at
+(``full``, ``no_aux``, ``no_blending``, ``single_frame``), ``half_resolution`` (features at
 half instead of quarter resolution) and ``wide`` (48 channels, hidden state 32), which change
-the capacity on purpose.
+the capacity on purpose, and ``aligned`` (the full network whose recurrent states follow the
+camera: moved by the frame-to-frame translation, ``VideoDeblurConfig(align=True)``; no extra
+parameters).
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ VARIANTS = {
     **equal_parameter_variants(),
     "half_resolution": VideoDeblurConfig(feature_stride=2),
     "wide": VideoDeblurConfig(channels=48, hidden=32),
+    "aligned": VideoDeblurConfig(align=True),
 }
 
 

@@ -26,22 +26,14 @@ from collections.abc import Callable
 import cv2
 import numpy as np
 import skimage.data
-from skimage.restoration import unsupervised_wiener, wiener
+from skimage.restoration import wiener
 
-from blurloc.blur import (
-    blur_image,
-    detect_blur,
-    estimate_motion_blur,
-    motion_kernel,
-    shake_path,
-    trajectory_kernel,
-)
+from blurloc.blur import blur_image, detect_blur, estimate_motion_blur, motion_kernel
 from blurloc.deconv import deblur_blind, wiener_deconvolve
+from blurloc.experiments.wiener_oracles import KERNEL_KINDS, skimage_comparison
 from blurloc.intervals import paired_interval
-from blurloc.metrics import psnr
 
 PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "immunohistochemistry", "hubble_deep_field")
-BALANCES = (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0)
 
 
 def frame(name: str, size: tuple[int, int] = (640, 480)) -> np.ndarray:
@@ -59,41 +51,6 @@ def median_ms(call: Callable[[], object], repeats: int) -> float:
         call()
         times.append(time.perf_counter() - start)
     return float(np.median(times) * 1000)
-
-
-KERNEL_KINDS = {
-    "line": "line kernels, 7-27 px",
-    "shake": "camera-shake kernels (Boracchi-Foi paths, 11-25 px, like Levin et al.'s)",
-}
-
-
-def quality_rows(
-    kind: str, images: int, kernels: int, rng: np.random.Generator, size: tuple[int, int]
-) -> list[dict]:
-    """PSNR (dB) of the blurred photo, this package's Wiener (NSR estimated from the noise),
-    scikit-image's ``wiener`` at its best ``balance`` (swept per trial, an oracle) and
-    ``unsupervised_wiener``, for ``kernels`` random kernels of ``kind`` on each photo, resized
-    to ``size`` (width, height)."""
-    rows = []
-    for name in PHOTOS[:images]:
-        sharp = frame(name, size).mean(axis=2)
-        for _ in range(kernels):
-            if kind == "line":
-                kernel = motion_kernel(rng.uniform(7, 27), rng.uniform(0, 180))
-            else:
-                kernel = trajectory_kernel(shake_path(rng.uniform(11, 25), rng))
-            blurred = blur_image(sharp, kernel, 0.01, rng=rng)
-            swept = [psnr(sharp, np.clip(wiener(blurred, kernel, b, clip=False), 0, 1), 1.0)
-                     for b in BALANCES]  # fmt: skip
-            unsupervised = unsupervised_wiener(blurred, kernel, clip=False,
-                                               rng=np.random.default_rng(0))[0]  # fmt: skip
-            rows.append({
-                "blurred": psnr(sharp, np.clip(blurred, 0, 1), 1.0),
-                "ours": psnr(sharp, np.clip(wiener_deconvolve(blurred, kernel), 0, 1), 1.0),
-                "skimage_best": max(swept),
-                "unsupervised": psnr(sharp, np.clip(unsupervised, 0, 1), 1.0),
-            })  # fmt: skip
-    return rows
 
 
 def main() -> None:
@@ -131,15 +88,18 @@ def main() -> None:
     print(f"non-blind, σ = 0.01, gray {size[0]}x{size[1]}, {args.images} photos x "
           f"{args.kernels} kernels of each kind; PSNR dB (mean) and blurloc minus "
           "scikit-image's best balance (mean, 95 % bootstrap interval over the trials):")
-    for kind in ("line", "shake"):
-        rows = quality_rows(kind, args.images, args.kernels, rng, size)
-        mean = {key: np.mean([r[key] for r in rows]) for key in rows[0]}
-        gain = paired_interval(np.array([r["ours"] - r["skimage_best"] for r in rows]))
-        print(f"  {KERNEL_KINDS[kind]}: blurred {mean['blurred']:.2f}, blurloc {mean['ours']:.2f}, "
-              f"skimage best balance {mean['skimage_best']:.2f}, unsupervised "
-              f"{mean['unsupervised']:.2f}; gain {gain.mean:+.2f} dB [{gain.low:+.2f}, "
-              f"{gain.high:+.2f}], {np.mean([r['ours'] > r['skimage_best'] for r in rows]):.0%} "
-              "of trials ahead (target: >= +1 dB)")
+    photos = [frame(name, size).mean(axis=2) for name in PHOTOS[: args.images]]
+    for kind, label in KERNEL_KINDS.items():
+        rows = skimage_comparison(photos, [kind], args.kernels, rng, unsupervised=True)
+        mean = {key: np.mean([r[key] for r in rows]) for key in rows[0] if key.endswith("_db")}
+        gain = paired_interval(np.array([r["ours_db"] - r["skimage_best_balance_db"]
+                                         for r in rows]))  # fmt: skip
+        ahead = np.mean([r["ours_db"] > r["skimage_best_balance_db"] for r in rows])
+        print(f"  {label}: blurred {mean['blurred_db']:.2f}, blurloc {mean['ours_db']:.2f}, "
+              f"skimage best balance {mean['skimage_best_balance_db']:.2f}, unsupervised "
+              f"{mean['unsupervised_db']:.2f}; gain {gain.mean:+.2f} dB [{gain.low:+.2f}, "
+              f"{gain.high:+.2f}], {ahead:.0%} of trials ahead (target: >= +1 dB)")
+
 
 if __name__ == "__main__":
     main()

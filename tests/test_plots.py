@@ -294,6 +294,18 @@ def test_oracle_gains_draw_bars_and_frame_scatters() -> None:
     assert not _overlapping_texts(figure)
 
 
+def test_skimage_comparison_draws_rule_and_oracle_gains_per_kernel_kind() -> None:
+    rows = [{"kernel": k, "blurred_db": b, "ours_db": b + 2, "best_nsr_db": b + 2.5,
+             "skimage_best_balance_db": b + 1} for k in ("line", "camera shake")
+            for b in (20.0, 38.0)]  # fmt: skip
+    figure = plots.plot_skimage_comparison(rows)
+    assert len(figure.axes) == 2 and _labelled(figure.axes[0])
+    rule, oracle = figure.axes[1].collections
+    np.testing.assert_allclose(rule.get_offsets(), [[20.0, 1.0], [38.0, 1.0]])
+    np.testing.assert_allclose(oracle.get_offsets()[:, 1], [1.5, 1.5])
+    assert not _overlapping_texts(figure)
+
+
 def test_standin_estimation_draws_the_camera_frames_only() -> None:
     rows = [{"kind": k, "extent_px": e, "estimated_length_px": e + 0.5, "angle_error_deg": 3.0}
             for k, e in (("color", 2.0), ("color", 6.0), ("sharp", 0.0))]  # fmt: skip

@@ -8,6 +8,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+import skimage.data
 import torch
 from torch import nn
 
@@ -24,7 +25,13 @@ from blurloc.inference import (
     restore_sequence,
 )
 from blurloc.metrics import mean_frame_psnr
-from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
+from blurloc.models.video_deblur import (
+    VideoDeblurConfig,
+    VideoDeblurNet,
+    frame_translation,
+    parameter_count,
+    shift_features,
+)
 from blurloc.train.config import VideoTrainConfig
 from blurloc.train.video import load_video_splits, train_video_deblur
 
@@ -46,7 +53,7 @@ def test_any_frame_size_is_restored_to_the_same_size(height: int, width: int, st
     model = VideoDeblurNet(VideoDeblurConfig(feature_stride=stride)).eval()
     frames = torch.rand(2, 3, 3, height, width) * 2 - 1
     with torch.no_grad():
-        restored, (hidden, _, _) = model(frames)
+        restored, (hidden, *_) = model(frames)
     assert restored.shape == frames.shape
     assert hidden.shape[-2:] == (-(-height // stride), -(-width // stride))
 
@@ -87,6 +94,40 @@ def test_state_carries_across_chunks() -> None:
     whole = restore_sequence(model, video, chunk=7)
     pieces = restore_sequence(model, video, chunk=3)
     assert np.abs(whole.astype(int) - pieces.astype(int)).max() <= 1  # float rounding only
+
+
+@pytest.mark.parametrize("shift", [(3, 0), (0, -5), (7, 4), (-2, -9)])
+def test_frame_translation_finds_the_camera_shift_between_noisy_blurred_frames(
+    shift: tuple[int, int],
+) -> None:
+    # a photograph blurred a little, cut twice with the camera moved by `shift`, sensor noise
+    photo = cv2.GaussianBlur(skimage.data.astronaut(), (0, 0), 1.0).astype(np.float32) / 255
+    dx, dy = shift
+    rng = np.random.default_rng(0)
+    frames = [photo[100 - y : 220 - y, 100 - x : 260 - x] for x, y in ((0, 0), (dx, dy))]
+    previous, current = (torch.from_numpy(f + rng.normal(0, 0.01, f.shape).astype(np.float32))
+                         .permute(2, 0, 1)[None] for f in frames)  # fmt: skip
+    found = frame_translation(previous, current)[0]
+    torch.testing.assert_close(found, torch.tensor([dx, dy], dtype=torch.float32), atol=0.25,
+                               rtol=0)  # fmt: skip
+
+
+def test_shift_features_moves_a_map_by_whole_and_half_pixels() -> None:
+    features = torch.arange(2 * 8 * 10, dtype=torch.float32).reshape(1, 2, 8, 10)
+    moved = shift_features(features, torch.tensor([[2.0, -1.0]]))
+    torch.testing.assert_close(moved[..., 1:6, 3:8], features[..., 2:7, 1:6])  # out(x) = in(x - d)
+    half = shift_features(features, torch.tensor([[0.5, 0.0]]))
+    torch.testing.assert_close(half[..., 2:8], (features[..., 1:7] + features[..., 2:8]) / 2)
+
+
+def test_aligned_network_carries_its_last_frame_across_chunks() -> None:
+    torch.manual_seed(2)
+    model = VideoDeblurNet(VideoDeblurConfig(align=True)).eval()
+    assert parameter_count(model) == parameter_count(VideoDeblurNet())
+    video = (np.random.default_rng(1).random((7, 20, 28, 3)) * 255).astype(np.uint8)
+    whole = restore_sequence(model, video, chunk=7)
+    pieces = restore_sequence(model, video, chunk=3)
+    assert np.abs(whole.astype(int) - pieces.astype(int)).max() <= 1
 
 
 def test_blending_weights_are_non_negative_and_sum_to_one() -> None:

@@ -26,6 +26,8 @@ from blurloc.experiments.wiener_oracles import (
     oracle_rows,
     oracle_summary,
     per_scene_table,
+    random_kernel,
+    skimage_comparison,
     standin_settings,
 )
 from blurloc.geometry import intrinsics
@@ -43,6 +45,20 @@ def test_nsr_rule_fit_on_photographs() -> None:
     assert shipped / 2.5 < a * 0.01**b < shipped * 2.5
     with pytest.raises(ValueError, match="two noise levels"):
         fit_nsr_rule(crops[:1], [6.0], [0.01])
+
+
+def test_skimage_comparison_scores_both_filters_and_the_oracle_nsr() -> None:
+    crops = photo_crops(2, 128, seed=3)
+    rows = skimage_comparison(crops, ["line", "camera shake"], 1, np.random.default_rng(0),
+                              oracle_nsr=True)  # fmt: skip
+    assert [(r["image"], r["kernel"]) for r in rows] == [
+        (0, "line"), (0, "camera shake"), (1, "line"), (1, "camera shake")]
+    for row in rows:  # textured photographs: Wiener deblurs; the oracle is at least as good
+        assert row["ours_db"] > row["blurred_db"] + 1.0
+        assert np.isfinite(row["skimage_best_balance_db"])
+        assert row["best_nsr_db"] >= row["ours_db"] - 0.05
+    with pytest.raises(ValueError, match="kind must be one of"):
+        random_kernel("disk", np.random.default_rng(0))
 
 
 def test_true_path_kernel_explains_the_blurred_frame(quick_root: Path) -> None:

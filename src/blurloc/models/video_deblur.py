@@ -13,7 +13,9 @@ transposed convolution, so no checkerboard) and merges with shallow full-resolut
 B_t (the detail a residual needs). The blending weights w_t and w~_{t-1} are per-pixel,
 non-negative and sum to one (a softmax over two logits computed from the current and the
 previous features). Flags switch off the auxiliary state, the blending or the recurrence itself
-(then every frame is deblurred alone: the single-frame baseline).
+(then every frame is deblurred alone: the single-frame baseline). With ``align`` the recurrent
+states are moved with the camera before each frame: by the global translation between the
+previous and the current blurred frame, measured by phase correlation (no parameters).
 """
 
 from __future__ import annotations
@@ -28,7 +30,8 @@ from torch import nn
 @dataclass(frozen=True)
 class VideoDeblurConfig:
     """Widths and switches of :class:`VideoDeblurNet`; ``feature_stride`` (4 or 2) is how much
-    coarser than the frame the recurrent features are."""
+    coarser than the frame the recurrent features are; ``align`` moves the recurrent states by
+    the frame-to-frame translation (:func:`frame_translation`)."""
 
     channels: int = 32
     hidden: int = 24
@@ -37,6 +40,7 @@ class VideoDeblurConfig:
     blending: bool = True
     recurrent: bool = True
     feature_stride: int = 4
+    align: bool = False
 
     def __post_init__(self) -> None:
         if self.feature_stride not in (2, 4):
@@ -57,6 +61,68 @@ class ResidualBlock(nn.Module):
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         return x + self.conv2(F.relu(self.conv1(x)))
+
+
+def frame_translation(previous: torch.Tensor, current: torch.Tensor) -> torch.Tensor:
+    """Global translation (dx, dy) in px of each frame against the previous one, by phase
+    correlation: ``current(x) ≈ previous(x - shift)``.
+
+    The channel means of both frames, minus their means and Hann-windowed, are correlated in
+    the Fourier domain with the magnitude normalised away (only the phase, which carries the
+    shift, is kept); the correlation's peak is refined to a fraction of a pixel by a parabola
+    through it and its two neighbours along each axis.
+
+    Parameters
+    ----------
+    previous, current : torch.Tensor
+        (N, C, H, W) frames.
+
+    Returns
+    -------
+    torch.Tensor
+        (N, 2) shifts (dx, dy), px, each within half the frame's size.
+
+    References
+    ----------
+    Kuglin and Hines, "The phase correlation image alignment method", IEEE Conf. Cybernetics and
+    Society 1975.
+    """
+    if previous.shape != current.shape or previous.ndim != 4:
+        raise ValueError(f"frames must be two (N, C, H, W) tensors of one shape, got "
+                         f"{tuple(previous.shape)} and {tuple(current.shape)}")  # fmt: skip
+    height, width = current.shape[-2:]
+    window = torch.outer(*(torch.hann_window(size, periodic=False, device=current.device)
+                           for size in (height, width)))  # fmt: skip
+    spectra = [torch.fft.rfft2((gray - gray.mean((-2, -1), keepdim=True)) * window)
+               for gray in (previous.mean(1), current.mean(1))]  # fmt: skip
+    cross = spectra[1] * spectra[0].conj()
+    correlation = torch.fft.irfft2(cross / (cross.abs() + 1e-9), s=(height, width))
+    peak = correlation.flatten(1).argmax(1)
+    rows, columns = peak // width, peak % width
+    shifts = []
+    for index, size, step in ((columns, width, 1), (rows, height, width)):
+        base = (rows * width + columns).unsqueeze(1)
+        offsets = torch.stack([(index - 1) % size, index, (index + 1) % size], 1) - index[:, None]
+        values = correlation.flatten(1).gather(1, base + offsets * step)
+        left, middle, right = values.unbind(1)
+        curvature = left - 2 * middle + right
+        fraction = torch.where(curvature < 0, 0.5 * (left - right) / curvature.clamp(max=-1e-9),
+                               torch.zeros_like(middle))  # fmt: skip
+        whole = torch.where(index > size // 2, index - size, index).to(correlation.dtype)
+        shifts.append(whole + fraction.clamp(-0.5, 0.5))
+    return torch.stack(shifts, 1)
+
+
+def shift_features(features: torch.Tensor, shift_px: torch.Tensor) -> torch.Tensor:
+    """``features`` (N, C, h, w) moved by ``shift_px`` (N, 2: dx, dy, in feature pixels) with
+    bilinear interpolation, borders repeated: ``out(x) = features(x - shift)``."""
+    n, _, height, width = features.shape
+    theta = features.new_zeros(n, 2, 3)
+    theta[:, 0, 0] = theta[:, 1, 1] = 1.0
+    theta[:, 0, 2] = -2.0 * shift_px[:, 0] / width
+    theta[:, 1, 2] = -2.0 * shift_px[:, 1] / height
+    grid = F.affine_grid(theta, list(features.shape), align_corners=False)
+    return F.grid_sample(features, grid, padding_mode="border", align_corners=False)
 
 
 class VideoDeblurNet(nn.Module):
@@ -109,10 +175,10 @@ class VideoDeblurNet(nn.Module):
         keep_attention: bool = False,
     ) -> tuple[torch.Tensor, tuple]:
         """Deblur a clip (N, T, 3, H, W) in [-1, 1] frame by frame in time order; returns the
-        restored clip and the recurrent state (h, h~, f~) to pass with the next clip of the same
-        video. Any H, W: frames are padded by replication to a multiple of the stride and
-        cropped back. With ``keep_attention`` the blending weights w_t of eq. 10 are kept in
-        ``last_attention``."""
+        restored clip and the recurrent state (h, h~, f~ and the last frame) to pass with the
+        next clip of the same video. Any H, W: frames are padded by replication to a multiple of
+        the stride and cropped back. With ``keep_attention`` the blending weights w_t of eq. 10
+        are kept in ``last_attention``."""
         if frames.ndim != 5 or frames.shape[2] != 3:
             raise ValueError(f"frames must be (N, T, 3, H, W), got {tuple(frames.shape)}")
         n, t, _, height, width = frames.shape
@@ -120,10 +186,16 @@ class VideoDeblurNet(nn.Module):
         padded = F.pad(frames.flatten(0, 1), (0, pad_w, 0, pad_h), mode="replicate")
         padded = padded.unflatten(0, (n, t))
         config = self.config
-        hidden, aux, blended = state if state is not None else (None, None, None)
+        hidden, aux, blended, previous = state if state is not None else (None,) * 4
         outputs, self.last_attention = [], []
         for step in range(t):
             blurred = padded[:, step]
+            if config.align and config.recurrent and previous is not None and hidden is not None:
+                with torch.no_grad():
+                    moved = frame_translation(previous, blurred) / self.stride
+                hidden, aux, blended = (None if part is None else shift_features(part, moved)
+                                        for part in (hidden, aux, blended))  # fmt: skip
+            previous = blurred
             full = self.encode_full(blurred)
             features = self.encode(full)
             if hidden is None or not config.recurrent:
@@ -148,7 +220,7 @@ class VideoDeblurNet(nn.Module):
             residual = self.output(torch.cat([self.reconstruct(torch.cat(parts, 1)), full], 1))
             outputs.append(blurred + residual)
         restored = torch.stack(outputs, 1)[..., :height, :width]
-        return restored, (hidden, aux, blended)
+        return restored, (hidden, aux, blended, previous)
 
 
 def parameter_count(model: nn.Module) -> int:

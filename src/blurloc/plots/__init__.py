@@ -13,6 +13,7 @@ from .deconv import (
     plot_nsr_curve,
     plot_oracle_gains,
     plot_restorations,
+    plot_skimage_comparison,
 )
 from .explore import (
     blur_spectrum_explorer,
@@ -76,6 +77,7 @@ __all__ = [
     "plot_ratios",
     "plot_restorations",
     "plot_scene_gallery",
+    "plot_skimage_comparison",
     "plot_spectra",
     "plot_standin_estimation",
     "plot_training_curves",

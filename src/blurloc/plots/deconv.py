@@ -158,3 +158,44 @@ def plot_oracle_gains(
     figure.suptitle(f"Wiener with ingredients replaced by the truth, "
                     f"{summary[0]['frames']} stand-in frames")  # fmt: skip
     return figure
+
+
+@styled
+def plot_skimage_comparison(rows: list[dict]) -> plt.Figure:
+    """This package's Wiener minus scikit-image's best-balance ``wiener`` per trial, against how
+    close the blurred image already is to the truth, with the NSR rule and with the best
+    constant NSR of each trial.
+
+    Parameters
+    ----------
+    rows : list of dict
+        :func:`blurloc.experiments.wiener_oracles.skimage_comparison` with ``oracle_nsr``:
+        kernel, blurred_db, ours_db, best_nsr_db, skimage_best_balance_db (dB).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Eq. 4 (Wiener) and eq. 6 (PSNR) of the paper.
+    """
+    kinds = list(dict.fromkeys(r["kernel"] for r in rows))
+    figure, axes = plt.subplots(1, len(kinds), figsize=(5.2 * len(kinds), 3.9), sharey=True,
+                                squeeze=False, layout="constrained")  # fmt: skip
+    for axis, kind in zip(axes[0], kinds, strict=True):
+        trials = [r for r in rows if r["kernel"] == kind]
+        blurred = np.array([r["blurred_db"] for r in trials])
+        reference = np.array([r["skimage_best_balance_db"] for r in trials])
+        for key, label, style in (("ours_db", "NSR rule", {"color": "#4c72b0"}),
+                                  ("best_nsr_db", "best constant NSR (oracle)",
+                                   {"facecolors": "none", "edgecolors": "#dd8452"})):  # fmt: skip
+            gain = np.array([r[key] for r in trials]) - reference
+            axis.scatter(blurred, gain, s=22, label=label, **style)
+        axis.axhline(0, color="k", lw=1)
+        axis.axhline(1, color="gray", lw=1, ls="--", label="+1 dB")
+        axis.set(xlabel="PSNR of the blurred image (dB)", title=f"{kind} kernels")
+        axis.legend(fontsize=7)
+    axes[0, 0].set_ylabel("Wiener (eq. 4) minus scikit-image (dB)")
+    figure.suptitle("Wiener against scikit-image's best-balance wiener, true kernels, σ = 0.01")
+    return figure
