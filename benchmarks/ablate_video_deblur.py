@@ -55,8 +55,9 @@ VARIANTS = {
 
 
 def frame_shifts(root: str, frames: int) -> np.ndarray:
-    """Frame-to-frame camera translation (px, :func:`frame_translation`) over the first
-    ``frames`` frames of every test sequence: how far an ``aligned`` network moves its states."""
+    """Frame-to-frame image translation (px, :func:`frame_translation`) over the first
+    ``frames`` frames of every test sequence: how far an ``aligned`` network moves its states
+    (in feature pixels: divided by the feature stride)."""
     shifts = []
     for scene in list_scenes(root):
         for sequence in load_split(root, scene, "test"):
@@ -110,7 +111,8 @@ def main() -> None:
         shifts = frame_shifts(args.root, args.frames)
         print(f"frame-to-frame translation on the scored test frames ({shifts.size} pairs): "
               f"median {np.median(shifts):.2f} px, 90th percentile "
-              f"{np.percentile(shifts, 90):.2f} px (features at 1/4 resolution: a quarter)")
+              f"{np.percentile(shifts, 90):.2f} px; the recurrent states move by these divided by "
+              f"the feature stride ({VARIANTS['aligned'].feature_stride})")
 
 
 if __name__ == "__main__":

@@ -295,14 +295,17 @@ def test_oracle_gains_draw_bars_and_frame_scatters() -> None:
 
 
 def test_skimage_comparison_draws_rule_and_oracle_gains_per_kernel_kind() -> None:
-    rows = [{"kernel": k, "blurred_db": b, "ours_db": b + 2, "best_nsr_db": b + 2.5,
-             "skimage_best_balance_db": b + 1} for k in ("line", "camera shake")
+    rows = [{"kernel": k, "noise_sigma": 0.01, "blurred_db": b, "ours_db": b + 2,
+             "best_nsr_db": b + 2.5, "skimage_best_balance_db": b + 1,
+             "skimage_padded_db": b + 3} for k in ("line", "camera shake")
             for b in (20.0, 38.0)]  # fmt: skip
     figure = plots.plot_skimage_comparison(rows)
     assert len(figure.axes) == 2 and _labelled(figure.axes[0])
-    rule, oracle = figure.axes[1].collections
+    rule, oracle, padded = figure.axes[1].collections
     np.testing.assert_allclose(rule.get_offsets(), [[20.0, 1.0], [38.0, 1.0]])
     np.testing.assert_allclose(oracle.get_offsets()[:, 1], [1.5, 1.5])
+    np.testing.assert_allclose(padded.get_offsets()[:, 1], [-1.0, -1.0])
+    assert "σ = 0.01" in figure.get_suptitle()
     assert not _overlapping_texts(figure)
 
 

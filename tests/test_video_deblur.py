@@ -97,10 +97,10 @@ def test_state_carries_across_chunks() -> None:
 
 
 @pytest.mark.parametrize("shift", [(3, 0), (0, -5), (7, 4), (-2, -9)])
-def test_frame_translation_finds_the_camera_shift_between_noisy_blurred_frames(
+def test_frame_translation_finds_the_image_shift_between_noisy_blurred_frames(
     shift: tuple[int, int],
 ) -> None:
-    # a photograph blurred a little, cut twice with the camera moved by `shift`, sensor noise
+    # a photograph blurred a little, cut twice with its content moved by `shift`, sensor noise
     photo = cv2.GaussianBlur(skimage.data.astronaut(), (0, 0), 1.0).astype(np.float32) / 255
     dx, dy = shift
     rng = np.random.default_rng(0)
@@ -118,6 +118,16 @@ def test_shift_features_moves_a_map_by_whole_and_half_pixels() -> None:
     torch.testing.assert_close(moved[..., 1:6, 3:8], features[..., 2:7, 1:6])  # out(x) = in(x - d)
     half = shift_features(features, torch.tensor([[0.5, 0.0]]))
     torch.testing.assert_close(half[..., 2:8], (features[..., 1:7] + features[..., 2:8]) / 2)
+
+
+def test_aligned_network_leaves_a_still_video_as_the_unaligned_one_does() -> None:
+    torch.manual_seed(3)
+    still = (torch.rand(1, 1, 3, 24, 32) * 2 - 1).repeat(1, 4, 1, 1, 1)  # no motion: shift 0
+    plain = VideoDeblurNet().eval()
+    aligned = VideoDeblurNet(VideoDeblurConfig(align=True)).eval()
+    aligned.load_state_dict(plain.state_dict())
+    with torch.no_grad():
+        torch.testing.assert_close(aligned(still)[0], plain(still)[0], atol=1e-5, rtol=0)
 
 
 def test_aligned_network_carries_its_last_frame_across_chunks() -> None:

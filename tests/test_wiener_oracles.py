@@ -20,6 +20,7 @@ from blurloc.experiments.blur_estimation import (
 )
 from blurloc.experiments.estimation import photo_crops
 from blurloc.experiments.wiener_oracles import (
+    SKIMAGE_BALANCES,
     VARIANTS,
     exposure_kernel,
     fit_nsr_rule,
@@ -55,7 +56,8 @@ def test_skimage_comparison_scores_both_filters_and_the_oracle_nsr() -> None:
         (0, "line"), (0, "camera shake"), (1, "line"), (1, "camera shake")]
     for row in rows:  # textured photographs: Wiener deblurs; the oracle is at least as good
         assert row["ours_db"] > row["blurred_db"] + 1.0
-        assert np.isfinite(row["skimage_best_balance_db"])
+        assert np.isfinite(row["skimage_best_balance_db"]) and np.isfinite(row["skimage_padded_db"])
+        assert {row["skimage_balance"], row["skimage_padded_balance"]} <= set(SKIMAGE_BALANCES)
         assert row["best_nsr_db"] >= row["ours_db"] - 0.05
     with pytest.raises(ValueError, match="kind must be one of"):
         random_kernel("disk", np.random.default_rng(0))

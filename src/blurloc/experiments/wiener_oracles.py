@@ -125,23 +125,52 @@ def fit_nsr_rule(
     return float(np.exp(line.intercept)), float(line.slope), rows
 
 
-#: scikit-image ``wiener`` balances swept per trial by :func:`skimage_comparison`.
-SKIMAGE_BALANCES = (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0)
-#: Kernel kinds of :func:`random_kernel` and the ranges they are drawn from.
+#: scikit-image ``wiener`` balances swept per trial by :func:`skimage_comparison`, half a decade
+#: apart; wide enough that the best one lies inside the sweep, not at its end.
+SKIMAGE_BALANCES = (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0)
+#: Kernel kinds of :func:`random_kernel`: the range (px) each kind's size is drawn from (a line's
+#: length; the longer side of a camera-shake path's bounding box) and a description.
 KERNEL_KINDS = {
-    "line": "line kernels, 7-27 px",
-    "camera shake": "camera-shake kernels (Boracchi-Foi paths, 11-25 px, like Levin et al.'s)",
+    "line": ((7.0, 27.0), "line kernels"),
+    "camera shake": ((11.0, 25.0), "camera-shake kernels (Boracchi-Foi paths)"),
 }
 
 
 def random_kernel(kind: str, rng: np.random.Generator) -> np.ndarray:
-    """A random blur kernel of ``kind``: ``"line"`` (length 7-27 px, any angle) or
-    ``"camera shake"`` (:func:`~blurloc.blur.shake_path` of extent 11-25 px)."""
+    """A random blur kernel of ``kind`` (:data:`KERNEL_KINDS`).
+
+    Parameters
+    ----------
+    kind : str
+        ``"line"``: a line of uniformly drawn length at a uniformly drawn angle
+        (:func:`~blurloc.blur.motion_kernel`); ``"camera shake"``: a random hand-shake path of
+        uniformly drawn extent (:func:`~blurloc.blur.shake_path`).
+    rng : numpy.random.Generator
+        Draws the size, the angle or the path.
+
+    Returns
+    -------
+    numpy.ndarray
+        The kernel (k, k), summing to 1.
+    """
+    if kind not in KERNEL_KINDS:
+        raise ValueError(f"kind must be one of {sorted(KERNEL_KINDS)}, got {kind!r}")
+    low, high = KERNEL_KINDS[kind][0]
     if kind == "line":
-        return motion_kernel(rng.uniform(7, 27), rng.uniform(0, 180))
-    if kind == "camera shake":
-        return trajectory_kernel(shake_path(rng.uniform(11, 25), rng))
-    raise ValueError(f"kind must be one of {sorted(KERNEL_KINDS)}, got {kind!r}")
+        return motion_kernel(rng.uniform(low, high), rng.uniform(0, 180))
+    return trajectory_kernel(shake_path(rng.uniform(low, high), rng))
+
+
+def _best_skimage(observed: np.ndarray, truth: np.ndarray, kernel: np.ndarray, pad: int) -> tuple:
+    """PSNR (dB) and balance of scikit-image's ``wiener`` at its best balance; with ``pad`` > 0
+    the image is mirror-padded by that many pixels first and cropped back (as this package's
+    Wiener does), otherwise transformed as it is (periodic, scikit-image's own way)."""
+    padded = np.pad(observed, pad, mode="reflect") if pad else observed
+    inside = (slice(pad, pad + observed.shape[0]), slice(pad, pad + observed.shape[1]))
+    scores = [psnr(truth, np.clip(wiener(padded, kernel, b, clip=False)[inside], 0, 1), 1.0)
+              for b in SKIMAGE_BALANCES]  # fmt: skip
+    best = int(np.argmax(scores))
+    return scores[best], SKIMAGE_BALANCES[best]
 
 
 def skimage_comparison(
@@ -155,7 +184,8 @@ def skimage_comparison(
 ) -> list[dict]:
     """This package's Wiener filter (eq. 4, NSR estimated from the image) against scikit-image's
     ``wiener`` at its best ``balance`` per trial (an oracle sweep over SKIMAGE_BALANCES), with
-    the true kernel.
+    the true kernel; scikit-image's filter both as it is (periodic DFT) and given the same
+    mirror padding as this package's, so that the two differ in their regulariser only.
 
     Parameters
     ----------
@@ -178,11 +208,12 @@ def skimage_comparison(
     Returns
     -------
     list of dict
-        One row per trial: ``image`` (index), ``kernel`` (kind) and PSNR (dB, data range 1,
-        restorations clipped to [0, 1]) of the blurred image, this package's Wiener and
-        scikit-image's best balance (``blurred_db``, ``ours_db``, ``skimage_best_balance_db``;
-        with ``unsupervised`` also ``unsupervised_db``, with ``oracle_nsr`` also
-        ``best_nsr_db``).
+        One row per trial: ``image`` (index), ``kernel`` (kind), ``noise_sigma``, PSNR (dB, data
+        range 1, restorations clipped to [0, 1]) of the blurred image, this package's Wiener and
+        scikit-image's at its best balance, unpadded and mirror-padded (``blurred_db``,
+        ``ours_db``, ``skimage_best_balance_db``, ``skimage_padded_db``), and the two best
+        balances (``skimage_balance``, ``skimage_padded_balance``); with ``unsupervised`` also
+        ``unsupervised_db``, with ``oracle_nsr`` also ``best_nsr_db`` and ``best_nsr``.
     """
     kinds = list(kinds)
     rows = []
@@ -191,20 +222,22 @@ def skimage_comparison(
             for _ in range(kernels_per_image):
                 kernel = random_kernel(kind, rng)
                 observed = blur_image(image, kernel, noise_sigma, rng=rng)
+                periodic, balance = _best_skimage(observed, image, kernel, 0)
+                padded, padded_balance = _best_skimage(observed, image, kernel,
+                                                       max(kernel.shape) + 8)  # fmt: skip
                 row = {
-                    "image": index, "kernel": kind,
+                    "image": index, "kernel": kind, "noise_sigma": noise_sigma,
                     "blurred_db": psnr(image, np.clip(observed, 0, 1), 1.0),
                     "ours_db": psnr(image, np.clip(wiener_deconvolve(observed, kernel), 0, 1), 1.0),
-                    "skimage_best_balance_db": max(
-                        psnr(image, np.clip(wiener(observed, kernel, b, clip=False), 0, 1), 1.0)
-                        for b in SKIMAGE_BALANCES),
+                    "skimage_best_balance_db": periodic, "skimage_padded_db": padded,
+                    "skimage_balance": balance, "skimage_padded_balance": padded_balance,
                 }  # fmt: skip
                 if unsupervised:
                     restored = unsupervised_wiener(observed, kernel, clip=False,
                                                    rng=np.random.default_rng(0))[0]  # fmt: skip
                     row["unsupervised_db"] = psnr(image, np.clip(restored, 0, 1), 1.0)
                 if oracle_nsr:
-                    row["best_nsr_db"] = best_nsr(observed, image, kernel)[1]
+                    row["best_nsr"], row["best_nsr_db"] = best_nsr(observed, image, kernel)
                 rows.append(row)
     return rows
 

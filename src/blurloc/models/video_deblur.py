@@ -14,8 +14,9 @@ B_t (the detail a residual needs). The blending weights w_t and w~_{t-1} are per
 non-negative and sum to one (a softmax over two logits computed from the current and the
 previous features). Flags switch off the auxiliary state, the blending or the recurrence itself
 (then every frame is deblurred alone: the single-frame baseline). With ``align`` the recurrent
-states are moved with the camera before each frame: by the global translation between the
-previous and the current blurred frame, measured by phase correlation (no parameters).
+states follow the image before each frame: they are moved by the global translation of the
+content between the previous and the current blurred frame, measured by phase correlation (no
+parameters).
 """
 
 from __future__ import annotations
@@ -114,8 +115,20 @@ def frame_translation(previous: torch.Tensor, current: torch.Tensor) -> torch.Te
 
 
 def shift_features(features: torch.Tensor, shift_px: torch.Tensor) -> torch.Tensor:
-    """``features`` (N, C, h, w) moved by ``shift_px`` (N, 2: dx, dy, in feature pixels) with
-    bilinear interpolation, borders repeated: ``out(x) = features(x - shift)``."""
+    """Move feature maps by a translation: ``out(x) = features(x - shift)``.
+
+    Parameters
+    ----------
+    features : torch.Tensor
+        (N, C, h, w) maps.
+    shift_px : torch.Tensor
+        (N, 2) translation (dx, dy) of each map, in its own pixels (fractions allowed).
+
+    Returns
+    -------
+    torch.Tensor
+        (N, C, h, w), bilinearly interpolated; pixels moved in from outside repeat the border.
+    """
     n, _, height, width = features.shape
     theta = features.new_zeros(n, 2, 3)
     theta[:, 0, 0] = theta[:, 1, 1] = 1.0

@@ -163,14 +163,16 @@ def plot_oracle_gains(
 @styled
 def plot_skimage_comparison(rows: list[dict]) -> plt.Figure:
     """This package's Wiener minus scikit-image's best-balance ``wiener`` per trial, against how
-    close the blurred image already is to the truth, with the NSR rule and with the best
-    constant NSR of each trial.
+    close the blurred image already is to the truth: with the NSR rule and with the best
+    constant NSR of each trial, against scikit-image as it is (periodic DFT) and against
+    scikit-image given the same mirror padding (then only the regulariser differs).
 
     Parameters
     ----------
     rows : list of dict
         :func:`blurloc.experiments.wiener_oracles.skimage_comparison` with ``oracle_nsr``:
-        kernel, blurred_db, ours_db, best_nsr_db, skimage_best_balance_db (dB).
+        kernel, noise_sigma, blurred_db, ours_db, best_nsr_db, skimage_best_balance_db,
+        skimage_padded_db (dB).
 
     Returns
     -------
@@ -181,21 +183,28 @@ def plot_skimage_comparison(rows: list[dict]) -> plt.Figure:
     Eq. 4 (Wiener) and eq. 6 (PSNR) of the paper.
     """
     kinds = list(dict.fromkeys(r["kernel"] for r in rows))
-    figure, axes = plt.subplots(1, len(kinds), figsize=(5.2 * len(kinds), 3.9), sharey=True,
-                                squeeze=False, layout="constrained")  # fmt: skip
+    figure, axes = plt.subplots(1, len(kinds), figsize=(5.2 * len(kinds), 4.2), sharex=True,
+                                sharey=True, squeeze=False, layout="constrained")  # fmt: skip
+    series = (
+        ("ours_db", "skimage_best_balance_db", "NSR rule vs scikit-image",
+         {"color": "#4c72b0"}),
+        ("best_nsr_db", "skimage_best_balance_db", "best constant NSR (oracle) vs scikit-image",
+         {"facecolors": "none", "edgecolors": "#dd8452"}),
+        ("ours_db", "skimage_padded_db", "NSR rule vs scikit-image, mirror-padded",
+         {"color": "#55a868", "marker": "x"}),
+    )  # fmt: skip
     for axis, kind in zip(axes[0], kinds, strict=True):
         trials = [r for r in rows if r["kernel"] == kind]
         blurred = np.array([r["blurred_db"] for r in trials])
-        reference = np.array([r["skimage_best_balance_db"] for r in trials])
-        for key, label, style in (("ours_db", "NSR rule", {"color": "#4c72b0"}),
-                                  ("best_nsr_db", "best constant NSR (oracle)",
-                                   {"facecolors": "none", "edgecolors": "#dd8452"})):  # fmt: skip
-            gain = np.array([r[key] for r in trials]) - reference
+        for ours, theirs, label, style in series:
+            gain = np.array([r[ours] - r[theirs] for r in trials])
             axis.scatter(blurred, gain, s=22, label=label, **style)
         axis.axhline(0, color="k", lw=1)
         axis.axhline(1, color="gray", lw=1, ls="--", label="+1 dB")
         axis.set(xlabel="PSNR of the blurred image (dB)", title=f"{kind} kernels")
         axis.legend(fontsize=7)
-    axes[0, 0].set_ylabel("Wiener (eq. 4) minus scikit-image (dB)")
-    figure.suptitle("Wiener against scikit-image's best-balance wiener, true kernels, σ = 0.01")
+    axes[0, 0].set_ylabel("Wiener (eq. 4) minus scikit-image's wiener (dB)")
+    sigmas = sorted({r["noise_sigma"] for r in rows})
+    figure.suptitle("This package's Wiener against scikit-image's at its best balance, true "
+                    f"kernels, noise σ = {', '.join(f'{s:g}' for s in sigmas)}")  # fmt: skip
     return figure
