@@ -62,6 +62,8 @@ EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
         "wiener_nsr.pdf",
         "wiener_boundaries.png",
         "wiener_boundaries.pdf",
+        "wiener_vs_skimage.png",
+        "wiener_vs_skimage.pdf",
         "fig03_deblurring_process.png",
         "fig03_deblurring_process.pdf",
         "deblur_per_scene.md",
