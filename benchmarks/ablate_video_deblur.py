@@ -16,7 +16,7 @@ trainings in ``--out`` are reused. Variants: notebook 03's four at equal paramet
 (``full``, ``no_aux``, ``no_blending``, ``single_frame``), ``half_resolution`` (features at
 half instead of quarter resolution) and ``wide`` (48 channels, hidden state 32), which change
 the capacity on purpose, and ``aligned`` (the full network whose recurrent states follow the
-camera: moved by the frame-to-frame translation, ``VideoDeblurConfig(align=True)``; no extra
+image: moved by the frame-to-frame translation, ``VideoDeblurConfig(align=True)``; no extra
 parameters).
 """
 
@@ -27,7 +27,6 @@ import time
 from dataclasses import replace
 
 import numpy as np
-import torch
 
 from blurloc.data import list_scenes, load_split, read_image
 from blurloc.experiments.video_ablation import (
@@ -37,6 +36,7 @@ from blurloc.experiments.video_ablation import (
     equal_parameter_variants,
     train_ablations,
 )
+from blurloc.inference import to_tensor
 from blurloc.models.video_deblur import (
     VideoDeblurConfig,
     VideoDeblurNet,
@@ -62,8 +62,7 @@ def frame_shifts(root: str, frames: int) -> np.ndarray:
     for scene in list_scenes(root):
         for sequence in load_split(root, scene, "test"):
             part = sequence.first(frames)
-            video = torch.from_numpy(np.stack([read_image(part.path(f)) for f in part.frame_ids]))
-            video = video.permute(0, 3, 1, 2).float()
+            video = to_tensor(np.stack([read_image(part.path(f)) for f in part.frame_ids]))
             shifts.append(frame_translation(video[:-1], video[1:]).norm(dim=1).numpy())
     return np.concatenate(shifts)
 

@@ -26,7 +26,7 @@ from blurloc.data.synth import SynthConfig
 from blurloc.images import srgb_to_linear, to_uint8
 from blurloc.inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_sequence
 from blurloc.intervals import paired_interval
-from blurloc.metrics import mean_frame_psnr, psnr
+from blurloc.metrics import psnr
 
 EXTENT_BINS_PX = (0.0, 1.0, 2.0, 4.0, 8.0, np.inf)
 
@@ -48,12 +48,10 @@ def main() -> None:
     network = load_video_deblur(DEFAULT_CHECKPOINT)
     rng = np.random.default_rng(args.seed)
     sigma = SynthConfig().noise_sigma
-    pairs: dict[str, list] = {"blurred": [], "blurred, restored": [], "noisy sharp": [],
-                              "noisy sharp, restored": []}  # fmt: skip
     extents = {(r["scene"], r["sequence"], r["frame"]): r["mean_px"]
                for r in read_blur_metadata(args.root) if r["split"] == "test"}  # fmt: skip
-    per_frame = []  # (extent px, blurred PSNR, restored PSNR)
-    control_frames = []  # (noisy sharp PSNR, restored PSNR)
+    blurred_frames = []  # per frame: (extent px, input PSNR, restored PSNR) against the render
+    control_frames = []  # per frame: (input PSNR, restored PSNR) of the noise-only control
     for scene in list_scenes(args.root):
         for sequence in load_split(args.root, scene, "test"):
             part = sequence.first(args.frames)
@@ -61,27 +59,23 @@ def main() -> None:
             sharp = np.stack([read_image(part.path(f, "sharp")) for f in part.frame_ids])
             linear = srgb_to_linear(sharp.astype(np.float64) / 255.0)
             noisy = to_uint8(linear, rng.normal(0.0, sigma, linear.shape))
-            for name, video in (("blurred", blurred), ("noisy sharp", noisy)):
-                pairs[name].append((video, sharp))
-                pairs[f"{name}, restored"].append((restore_sequence(network, video), sharp))
-            per_frame += [(extents[scene, sequence.number, frame], psnr(truth, before, 255.0),
-                           psnr(truth, after, 255.0)) for frame, before, after, truth
-                          in zip(part.frame_ids, blurred, pairs["blurred, restored"][-1][0], sharp,
-                                 strict=True)]  # fmt: skip
-            denoised = pairs["noisy sharp, restored"][-1][0]
-            control_frames += [(psnr(truth, before, 255.0), psnr(truth, after, 255.0))
-                               for before, after, truth in zip(noisy, denoised, sharp,
-                                                               strict=True)]  # fmt: skip
-    means = {name: mean_frame_psnr(videos) for name, videos in pairs.items()}
-    frames = sum(len(video) for video, _ in pairs["blurred"])
-    print(f"shipped network, {frames} test frames, PSNR (dB) against the sharp renders:")
-    for name, value in means.items():
-        print(f"  {name:<24} {value:6.2f}")
-    print(f"  gain on blurred frames     {means['blurred, restored'] - means['blurred']:+.2f} dB")
-    control = means["noisy sharp, restored"] - means["noisy sharp"]
-    print(f"  gain on noise only         {control:+.2f} dB")
-    table = np.array(per_frame)
-    removed = mse_removed(np.array(control_frames))
+            scores = {}
+            for name, video in (("blurred", blurred), ("control", noisy)):
+                restored = restore_sequence(network, video)
+                scores[name] = [(psnr(truth, before, 255.0), psnr(truth, after, 255.0))
+                                for before, after, truth in zip(video, restored, sharp,
+                                                                strict=True)]  # fmt: skip
+            blurred_frames += [(extents[scene, sequence.number, frame], *pair) for frame, pair
+                               in zip(part.frame_ids, scores["blurred"], strict=True)]  # fmt: skip
+            control_frames += scores["control"]
+    table, control = np.array(blurred_frames), np.array(control_frames)
+    print(f"shipped network, {len(table)} test frames, mean PSNR (dB) against the sharp renders:")
+    for name, values in (("blurred", table[:, 1]), ("blurred, restored", table[:, 2]),
+                         ("noisy sharp", control[:, 0]), ("noisy sharp, restored", control[:, 1])):
+        print(f"  {name:<24} {values.mean():6.2f}")
+    print(f"  gain on blurred frames     {(table[:, 2] - table[:, 1]).mean():+.2f} dB")
+    print(f"  gain on noise only         {(control[:, 1] - control[:, 0]).mean():+.2f} dB")
+    removed = mse_removed(control)
     print("\nblurred frames by recorded blur extent (mean px over the exposure, blur.csv): share "
           "of the frames, mean PSNR (dB) blurred -> restored, mean gain with a 95 % bootstrap "
           "interval over the frames (frames of one sequence are not independent: a lower bound "
@@ -98,7 +92,6 @@ def main() -> None:
               f"MSE removed {mse_removed(inside[:, 1:]).mean():6.2f}")
     print(f"  noise-only control: MSE removed {removed.mean():6.2f} (what denoising alone "
           "removes; a blur bin removing more is also deblurring)")
-
 
 
 if __name__ == "__main__":

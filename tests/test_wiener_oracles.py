@@ -18,7 +18,7 @@ from blurloc.experiments.blur_estimation import (
     length_training_set,
     photo_training_set,
 )
-from blurloc.experiments.estimation import photo_crops
+from blurloc.experiments.estimation import PHOTOS, crop_photo, photo_crops
 from blurloc.experiments.wiener_oracles import (
     SKIMAGE_BALANCES,
     VARIANTS,
@@ -61,6 +61,11 @@ def test_skimage_comparison_scores_both_filters_and_the_oracle_nsr() -> None:
         assert row["best_nsr_db"] >= row["ours_db"] - 0.05
     with pytest.raises(ValueError, match="kind must be one of"):
         random_kernel("disk", np.random.default_rng(0))
+
+
+def test_crops_cycle_through_sharp_photographs_only() -> None:
+    assert [crop_photo(i) for i in (0, 1, len(PHOTOS))] == [PHOTOS[0], PHOTOS[1], PHOTOS[0]]
+    assert "clock" not in PHOTOS  # scikit-image's clock photograph is itself motion-blurred
 
 
 def test_true_path_kernel_explains_the_blurred_frame(quick_root: Path) -> None:

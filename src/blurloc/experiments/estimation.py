@@ -20,8 +20,15 @@ PHOTOS = ("astronaut", "camera", "coffee", "chelsea", "rocket", "brick", "grass"
           "cell")  # fmt: skip
 
 
+def crop_photo(index: int) -> str:
+    """The photograph (a name in PHOTOS) that crop number ``index`` of :func:`photo_crops` is
+    cut from: the crops cycle through PHOTOS."""
+    return PHOTOS[index % len(PHOTOS)]
+
+
 def photo_crops(count: int, size: int = 256, seed: int = 0) -> list[np.ndarray]:
-    """Random square gray crops of scikit-image's photographs, cycling through PHOTOS.
+    """Random square gray crops of scikit-image's photographs, cycling through PHOTOS
+    (:func:`crop_photo` names the photograph of each).
 
     Parameters
     ----------
@@ -40,10 +47,10 @@ def photo_crops(count: int, size: int = 256, seed: int = 0) -> list[np.ndarray]:
     rng = np.random.default_rng(seed)
     crops = []
     for index in range(count):
-        photo = as_float_image(getattr(skimage.data, PHOTOS[index % len(PHOTOS)])())
+        photo = as_float_image(getattr(skimage.data, crop_photo(index))())
         gray = photo.mean(axis=2) if photo.ndim == 3 else photo
         if min(gray.shape) < size:
-            raise ValueError(f"photo {PHOTOS[index % len(PHOTOS)]} is smaller than {size} px")
+            raise ValueError(f"photo {crop_photo(index)} is smaller than {size} px")
         row = rng.integers(0, gray.shape[0] - size + 1)
         col = rng.integers(0, gray.shape[1] - size + 1)
         crops.append(gray[row : row + size, col : col + size])
