@@ -17,15 +17,11 @@ import argparse
 import time
 
 import numpy as np
-import skimage.data
 import torch
 
-from blurloc.experiments.photo_video import photo_video
+from blurloc.experiments.photo_video import photo_video_gains
 from blurloc.inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_sequence
-from blurloc.metrics import mean_frame_psnr
 from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
-
-PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "immunohistochemistry")
 
 
 def frames_per_second(model: torch.nn.Module, video: np.ndarray) -> float:
@@ -50,16 +46,12 @@ def main() -> None:
         fps = frames_per_second(model, video)
         print(f"{name}: {parameter_count(model):,} parameters, {fps:.1f} frames/s at 160x120 "
               f"on {args.threads} threads (target >= 25)")
-    gains = []
-    for index, photo in enumerate(PHOTOS):
-        for step in (0.5, 1.0, 1.5):
-            blurred, sharp = photo_video(getattr(skimage.data, photo)(), frames=8, step_px=step,
-                                         angle_deg=37.0 * index, seed=index)  # fmt: skip
-            before = mean_frame_psnr(list(zip(sharp, blurred, strict=True)))
-            after = mean_frame_psnr(list(zip(sharp, restore_sequence(full, blurred), strict=True)))
-            gains.append(after - before)
-            print(f"photo video {photo}, {step} px per sub-frame: {before:.2f} dB -> "
-                  f"{after:.2f} dB ({after - before:+.2f})")
+    rows = photo_video_gains(lambda blurred: restore_sequence(full, blurred))
+    for row in rows:
+        print(f"photo video {row['photo']}, {row['step_px']} px per sub-frame: "
+              f"{row['blurred_psnr_db']:.2f} dB -> {row['restored_psnr_db']:.2f} dB "
+              f"({row['gain_db']:+.2f})")
+    gains = [row["gain_db"] for row in rows]
     print(f"photo videos: gain min {min(gains):+.2f} dB, mean {np.mean(gains):+.2f} dB "
           f"(must not be worse than the input)")
 

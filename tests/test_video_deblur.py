@@ -15,7 +15,12 @@ from torch import nn
 from blurloc.cli import main
 from blurloc.data import check_data, load_split, read_image
 from blurloc.data.frames import list_frames
-from blurloc.experiments.photo_video import photo_video
+from blurloc.experiments.photo_video import (
+    PHOTO_VIDEO_PHOTOS,
+    PHOTO_VIDEO_SPEEDS,
+    photo_video,
+    photo_video_gains,
+)
 from blurloc.experiments.registration import registered_psnr
 from blurloc.experiments.video import write_deblurred_root
 from blurloc.inference import (
@@ -291,6 +296,17 @@ def test_photo_video_blurs_with_speed_and_the_shipped_network_does_not_make_it_w
         assert after > before - 0.1, (before, after)
     with pytest.raises(ValueError, match="RGB"):
         photo_video(photo[..., 0])
+
+
+def test_photo_video_gains_score_every_photo_and_speed_against_the_input() -> None:
+    rows = photo_video_gains(np.asarray, frames=2)  # the input itself: no gain
+    assert [(r["photo"], r["step_px"]) for r in rows] == [
+        (photo, step) for photo in PHOTO_VIDEO_PHOTOS for step in PHOTO_VIDEO_SPEEDS
+    ]
+    assert all(r["gain_db"] == 0.0 == r["restored_psnr_db"] - r["blurred_psnr_db"] for r in rows)
+    for photo in PHOTO_VIDEO_PHOTOS:  # faster pans blur more
+        scores = [r["blurred_psnr_db"] for r in rows if r["photo"] == photo]
+        assert scores == sorted(scores, reverse=True), (photo, scores)
 
 
 def test_the_shipped_network_does_not_drift_over_a_long_video(quick_root: Path) -> None:

@@ -173,14 +173,15 @@ def ablation_gains(
         Variant -> {seed: mean of the per-scene mean PSNR of the restored frames minus that
         of the blurred frames (dB)}.
     rows : list of dict
-        The per-frame scores (:func:`~blurloc.experiments.video.evaluate_video_deblurring`;
-        methods ``blurred`` and ``<variant>-seed<seed>``).
+        The per-frame PSNR (:func:`~blurloc.experiments.video.evaluate_video_deblurring`
+        without SSIM; methods ``blurred`` and ``<variant>-seed<seed>``).
     """
     methods = {"blurred": np.asarray}  # the input itself
     for run in runs:
         methods[f"{run.variant}-seed{run.seed}"] = VideoRestorer(run.folder / "best.pt", device)
     rows = evaluate_video_deblurring(root, methods, "test", progress=progress,
-                                     frames_per_sequence=frames_per_sequence)  # fmt: skip
+                                     frames_per_sequence=frames_per_sequence,
+                                     with_ssim=False)  # fmt: skip
     means = per_scene_means(rows, "psnr_db")
     gains: dict[str, dict[int, float]] = {}
     for run in runs:
