@@ -255,6 +255,16 @@ def test_one_recording_is_cut_into_a_training_and_a_test_sequence(
         split_one_sequence(train_sequence.folder, tmp_path / "other", "chess", 7)
     with pytest.raises(DataError, match="stand-in root"):
         split_one_sequence(train_sequence.folder, quick_root, "cut", 4)
+    blocks = split_one_sequence(train_sequence.folder, tmp_path / "blocks", "chess", 4, blocks=2)
+    train, test = load_split(blocks, "chess", "train"), load_split(blocks, "chess", "test")
+    assert [len(s) for s in train] == [2, 2] and [len(s) for s in test] == [2, 2]
+    # 8 frames in two blocks of 4: frames 0-1 and 4-5 train, 2-3 and 6-7 test
+    np.testing.assert_array_equal(np.concatenate([s.poses() for s in train]),
+                                  train_sequence.poses()[[0, 1, 4, 5]])  # fmt: skip
+    np.testing.assert_array_equal(np.concatenate([s.poses() for s in test]),
+                                  train_sequence.poses()[[2, 3, 6, 7]])  # fmt: skip
+    with pytest.raises(DataError, match="cannot be cut into 3 block"):
+        split_one_sequence(train_sequence.folder, tmp_path / "other", "chess", 4, blocks=3)
     odd = tmp_path / "odd" / "chess" / "seq-001"
     shutil.copytree(train_sequence.folder, odd)
     with pytest.raises(DataError, match="seq-XX"):

@@ -314,17 +314,23 @@ def split_one_sequence(
     out_root: str | os.PathLike,
     scene: str,
     train_frames: int,
+    blocks: int = 1,
 ) -> Path:
     """Cut one recorded sequence into a training and a test sequence of a new root.
 
     How a single long recording (a real 1000-frame 7-Scenes sequence, or one of the stand-in's)
     becomes something ``blurloc train-pose`` can learn from and be tested on: its first
     ``train_frames`` frames become ``<scene>/seq-01`` (TrainSplit.txt), the rest
-    ``<scene>/seq-02`` (TestSplit.txt), numbered from 0 again. Each frame's files (colour,
-    sharp, depth, pose, whichever exist) are hard-linked where the file system allows it, copied
-    otherwise: a hard link shares the source's data, so never edit the cut's files in place. The
-    stand-in's ``blur.csv`` is not carried over. The scene is written under a temporary name and
-    renamed when complete, so an interrupted cut leaves no half-written scene behind.
+    ``<scene>/seq-02`` (TestSplit.txt), numbered from 0 again. With ``blocks > 1`` the
+    recording is first cut into that many consecutive blocks of (nearly) equal length, and each
+    block is cut the same way (its share of ``train_frames`` first): training sequences
+    ``seq-01`` to ``seq-<blocks>``, test sequences after them, so that the test views lie
+    between training views (a check of how much the test views' place in the recording
+    matters). Each frame's files (colour, sharp, depth, pose, whichever exist) are hard-linked
+    where the file system allows it, copied otherwise: a hard link shares the source's data, so
+    never edit the cut's files in place. The stand-in's ``blur.csv`` is not carried over. The
+    scene is written under a temporary name and renamed when complete, so an interrupted cut
+    leaves no half-written scene behind.
 
     Parameters
     ----------
@@ -336,7 +342,9 @@ def split_one_sequence(
     scene : str
         Scene folder name to write under ``out_root``.
     train_frames : int
-        Frames of the training part; both parts must keep at least two frames.
+        Frames of the training part; both parts of every block must keep at least two frames.
+    blocks : int
+        Consecutive blocks, each cut into a training and a test sequence (default 1).
 
     Returns
     -------
@@ -357,9 +365,15 @@ def split_one_sequence(
     if not match or source.name != f"seq-{int(match.group(1)):02d}":
         raise DataError(f"{source}: expected a seq-XX folder (seq-01, seq-02, ...)")
     sequence = list_sequence(source.parent, int(match.group(1)))
-    if not 2 <= train_frames <= len(sequence) - 2:
-        raise DataError(f"{source}: {len(sequence)} frames cannot be cut after frame "
-                        f"{train_frames} (both parts need at least two)")  # fmt: skip
+    if blocks < 1:
+        raise DataError(f"{source}: blocks must be >= 1, got {blocks}")
+    ends = [round(k * len(sequence) / blocks) for k in range(blocks + 1)]
+    trains = [round(k * train_frames / blocks) for k in range(blocks + 1)]
+    cuts = [(ends[k], ends[k] + trains[k + 1] - trains[k], ends[k + 1]) for k in range(blocks)]
+    if not all(cut - start >= 2 and end - cut >= 2 for start, cut, end in cuts):
+        raise DataError(f"{source}: {len(sequence)} frames cannot be cut into {blocks} block(s) "
+                        f"with {train_frames} training frames (every part needs at least "
+                        "two)")  # fmt: skip
     out_root = Path(out_root)
     if (out_root / STANDIN_MANIFEST).exists():
         raise DataError(f"{out_root}: a stand-in root ({STANDIN_MANIFEST}); cut into another")
@@ -368,7 +382,9 @@ def split_one_sequence(
         raise DataError(f"{scene_dir}: already exists; choose another root or remove it")
     partial = out_root / f".{scene}.partial"
     shutil.rmtree(partial, ignore_errors=True)
-    parts = {1: sequence.frame_ids[:train_frames], 2: sequence.frame_ids[train_frames:]}
+    ids = sequence.frame_ids
+    parts = {**{k + 1: ids[start:cut] for k, (start, cut, _) in enumerate(cuts)},
+             **{blocks + k + 1: ids[cut:end] for k, (_, cut, end) in enumerate(cuts)}}  # fmt: skip
     for number, frame_ids in parts.items():
         folder = partial / f"seq-{number:02d}"
         folder.mkdir(parents=True)
@@ -377,7 +393,8 @@ def split_one_sequence(
                 origin = sequence.path(frame_id, kind)
                 if origin.is_file():
                     link_or_copy(origin, frame_path(folder, new_id, kind))
-    (partial / SPLIT_FILES["train"]).write_text("sequence1\n")
-    (partial / SPLIT_FILES["test"]).write_text("sequence2\n")
+    for split, numbers in (("train", range(1, blocks + 1)),
+                           ("test", range(blocks + 1, 2 * blocks + 1))):  # fmt: skip
+        (partial / SPLIT_FILES[split]).write_text("".join(f"sequence{n}\n" for n in numbers))
     partial.rename(scene_dir)
     return out_root
