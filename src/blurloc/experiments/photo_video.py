@@ -107,8 +107,8 @@ def photo_video_gains(restore: Callable[[np.ndarray], np.ndarray], frames: int =
     """
     rows = []
     for index, photo in enumerate(PHOTO_VIDEO_PHOTOS):
+        image = getattr(skimage.data, photo)()
         for step in PHOTO_VIDEO_SPEEDS:
-            image = getattr(skimage.data, photo)()
             blurred, sharp = photo_video(image, frames, step_px=step, angle_deg=37.0 * index,
                                          seed=index)  # fmt: skip
             before = mean_frame_psnr(list(zip(blurred, sharp, strict=True)))
