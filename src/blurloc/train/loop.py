@@ -102,7 +102,8 @@ def fixed_threads(threads: int) -> Iterator[None]:
 
     On CPU the sums inside convolutions and matrix products are split among the threads, so
     the rounding (and a trained network) depends on the thread count; fixing it makes one seed
-    give the same numbers on any machine.
+    give the same numbers whatever the machine's core count. It does not fix the CPU's own
+    kernels: on another processor the rounding may differ, and training amplifies it.
 
     Parameters
     ----------
