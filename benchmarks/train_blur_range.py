@@ -16,7 +16,8 @@ rendered with a longer exposure and another seed (other camera paths), its clips
 the union; each keeps its best checkpoint on the validation frames of what it trains on.
 Every network is scored on the first ``--frames`` frames of every test sequence of both roots
 and on the photo videos. Printed: each network's PSNR gain over the blurred input per seed,
-and, per test set, the paired difference ``blur_range - standin`` with its 95 % t-interval.
+and, per test set, the paired difference ``blur_range - standin`` with its 95 % t-interval
+(:func:`blurloc.experiments.video_ablation.ablation_intervals`).
 Finished trainings in ``--out`` are reused.
 """
 
@@ -31,16 +32,20 @@ from pathlib import Path
 import numpy as np
 
 from blurloc.experiments.photo_video import photo_video_gains
-from blurloc.experiments.video_ablation import AblationRun, ablation_gains
+from blurloc.experiments.video_ablation import (
+    INTERVAL_COLUMNS,
+    AblationRun,
+    ablation_gains,
+    ablation_intervals,
+)
 from blurloc.inference import VideoRestorer
-from blurloc.intervals import paired_interval, verdict
+from blurloc.models.video_deblur import VideoDeblurNet, parameter_count
 from blurloc.tables import save_table
 from blurloc.train.config import VideoTrainConfig
 from blurloc.train.loop import parallel_map
 from blurloc.train.video import load_video_splits, train_video_deblur
 
 TRAINING_FRAMES = 250  # per sequence of --root, as notebook 03's trainings
-WORDS = {"reproduced": "higher with the wider range", "contradicted": "lower with the wider range"}
 
 
 @functools.cache
@@ -76,8 +81,10 @@ def main() -> None:
     if len(args.seeds) < 2:
         parser.error("--seeds: at least two, for a paired interval")
 
-    budget = VideoTrainConfig(steps=args.steps, validate_every=100,
-                              threads=1 if args.workers > 1 else 2)  # fmt: skip
+    budget = VideoTrainConfig(steps=args.steps, validate_every=100)
+    if args.workers > 1:
+        budget = replace(budget, threads=1)  # one thread per worker process
+    parameters = parameter_count(VideoDeblurNet(budget.model))  # the same network for both
     training = {"standin": None, "blur_range": args.strong_root}
     jobs = [(name, seed, args.root, strong, replace(budget, seed=seed),
              f"{args.out}/{name}-seed{seed}")
@@ -106,24 +113,18 @@ def main() -> None:
         for name, by_seed in by_network.items():
             print(f"{test:13s} {name:11s} " + ", ".join(f"seed {s}: {g:+.2f} dB"
                                                         for s, g in by_seed.items()))
-        difference = np.array([by_network["blur_range"][s] - by_network["standin"][s]
-                               for s in args.seeds])  # fmt: skip
-        interval = paired_interval(difference, method="t")
-        table.append({
-            "test_set": test,
-            "standin_gain_db": round(float(np.mean(list(by_network["standin"].values()))), 3),
-            "blur_range_gain_db": round(float(np.mean(list(by_network["blur_range"].values()))), 3),
-            "blur_range_minus_standin_db": round(interval.mean, 3),
-            "ci_low": round(interval.low, 3), "ci_high": round(interval.high, 3),
-            "verdict": WORDS.get(verdict(interval, claimed_sign=1),
-                                 f"too small to resolve (±{interval.half_width:.2g} dB)"),
-        })  # fmt: skip
+        rows = ablation_intervals(by_network, dict.fromkeys(by_network, parameters),
+                                  reference="standin", below="lower with the wider range",
+                                  above="higher with the wider range")  # fmt: skip
+        table += [{"test_set": test, **{key: round(value, 3) if isinstance(value, float)
+                                        else value for key, value in row.items()}}
+                  for row in rows]  # fmt: skip
     markdown, _ = save_table(
-        table, args.out, "blur_range",
+        table, args.out, "blur_range", ("test_set", *INTERVAL_COLUMNS),
         caption=f"Video network trained on the stand-in alone or with a longer-exposure render "
                 f"({args.steps} steps, seeds {args.seeds}): PSNR gain over the blurred input "
-                f"(dB, mean over seeds) and the paired difference with its 95 % t-interval "
-                f"(measured).")  # fmt: skip
+                f"(dB, mean, min and max over seeds) and the paired difference to the "
+                f"stand-in-only network with its 95 % t-interval (measured).")  # fmt: skip
     print(markdown.read_text())
 
 
