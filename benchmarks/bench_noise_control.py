@@ -2,14 +2,19 @@
 noise-only control, and the gain on blurred frames by how much blur they carry.
 
     python benchmarks/bench_noise_control.py [--root data/standin] [--frames 250]
+        [--checkpoint PATH]
 
 The stand-in's sharp renders are noise-free, so part of any PSNR gain of a network fed the
 blurred (and noisy) frames may be denoising. The control feeds it the sharp render plus the same
 sensor noise (σ = 0.01 on gamma-encoded intensities, quantised to 8 bits, as the renderer does),
 with no blur. Both are scored against the sharp render (eq. 6), on the first ``--frames`` frames
-of every test sequence, with the shipped checkpoint. Prints both gains side by side, then the
-blurred frames' gain per bin of recorded blur extent (``blur.csv``'s mean_px): where in the blur
-distribution the gain is made, and how much of the test split lies where little can be gained.
+of every test sequence, with the shipped checkpoint (or ``--checkpoint``). Prints both gains side
+by side, then the blurred frames' gain per bin of recorded blur extent (``blur.csv``'s mean_px):
+where in the blur distribution the gain is made, and how much of the test split lies where little
+can be gained. Last, where in the spectrum: the squared error split into radial frequency bands
+(``metrics.band_squared_error``), for the blurred input, the control's noisy input (the noise
+alone, so the rest of the blurred input's error in a band is the blur's) and what the network
+removes of each band in both.
 """
 
 from __future__ import annotations
@@ -26,7 +31,7 @@ from blurloc.data.synth import SynthConfig
 from blurloc.images import srgb_to_linear, to_uint8
 from blurloc.inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_sequence
 from blurloc.intervals import paired_interval
-from blurloc.metrics import psnr
+from blurloc.metrics import FREQUENCY_BAND_EDGES, band_squared_error, psnr
 
 EXTENT_BINS_PX = (0.0, 1.0, 2.0, 4.0, 8.0, np.inf)
 
@@ -43,15 +48,17 @@ def main() -> None:
     parser.add_argument("--root", default="data/standin", help="stand-in root (full render)")
     parser.add_argument("--frames", type=int, default=250, help="frames per test sequence")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--checkpoint", default=DEFAULT_CHECKPOINT, help="video network")
     args = parser.parse_args()
     torch.set_num_threads(2)
-    network = load_video_deblur(DEFAULT_CHECKPOINT)
+    network = load_video_deblur(args.checkpoint)
     rng = np.random.default_rng(args.seed)
     sigma = SynthConfig().noise_sigma
     extents = {(r["scene"], r["sequence"], r["frame"]): r["mean_px"]
                for r in read_blur_metadata(args.root) if r["split"] == "test"}  # fmt: skip
     blurred_frames = []  # per frame: (extent px, input PSNR, restored PSNR) against the render
     control_frames = []  # per frame: (input PSNR, restored PSNR) of the noise-only control
+    bands = np.zeros((4, len(FREQUENCY_BAND_EDGES) - 1))  # (blurred, control) x (input, output)
     for scene in list_scenes(args.root):
         for sequence in load_split(args.root, scene, "test"):
             part = sequence.first(args.frames)
@@ -62,6 +69,9 @@ def main() -> None:
             scores = {}
             for name, video in (("blurred", blurred), ("control", noisy)):
                 restored = restore_sequence(network, video)
+                row = 0 if name == "blurred" else 2
+                bands[row] += band_squared_error(sharp, video)
+                bands[row + 1] += band_squared_error(sharp, restored)
                 scores[name] = [(psnr(truth, before, 255.0), psnr(truth, after, 255.0))
                                 for before, after, truth in zip(video, restored, sharp,
                                                                 strict=True)]  # fmt: skip
@@ -92,6 +102,27 @@ def main() -> None:
               f"MSE removed {mse_removed(inside[:, 1:]).mean():6.2f}")
     print(f"  noise-only control: MSE removed {removed.mean():6.2f} (what denoising alone "
           "removes; a blur bin removing more is also deblurring)")
+    print_bands(bands)
+
+
+def print_bands(bands: np.ndarray) -> None:
+    """Print the squared error by frequency band: (4, K) sums of the blurred input, its
+    restoration, the control's input and its restoration (rows of ``bands``)."""
+    blurred_in, blurred_out, control_in, control_out = bands
+    print("\nsquared error by spatial frequency (cycles per pixel; all frames and channels, "
+          "Parseval): the blurred input's share per band, the part of it that the noise alone "
+          "makes (the control's input error over the blurred input's), and the share of each "
+          "band's error the network removes, on blurred frames and on the noise-only control")
+    print("  band            share   noise part   removed (blurred)   removed (noise only)")
+    for k, (low, high) in enumerate(itertools.pairwise(FREQUENCY_BAND_EDGES)):
+        label = f"{low:.3f}-{high:.3f}" if np.isfinite(high) else f">= {low:.3f}"
+        print(f"  {label:<14} {blurred_in[k] / blurred_in.sum():6.1%}   "
+              f"{control_in[k] / blurred_in[k]:9.1%}   {1 - blurred_out[k] / blurred_in[k]:16.1%}"
+              f"   {1 - control_out[k] / control_in[k]:19.1%}")
+    for name, before, after in (("blurred", blurred_in, blurred_out),
+                                ("noise only", control_in, control_out)):
+        print(f"  all bands, {name}: {10 * np.log10(before.sum() / after.sum()):+.2f} dB (MSE of "
+              "all frames together)")
 
 
 if __name__ == "__main__":

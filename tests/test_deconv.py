@@ -18,7 +18,7 @@ from blurloc.deconv import (
 )
 from blurloc.experiments.deblurring import boundary_comparison, filter_comparison, nsr_curve
 from blurloc.experiments.wiener_oracles import frame_gains, gain_by_extent
-from blurloc.metrics import psnr, ssim
+from blurloc.metrics import FREQUENCY_BAND_EDGES, band_squared_error, psnr, ssim
 
 
 def well_posed_kernel() -> np.ndarray:
@@ -102,6 +102,44 @@ def test_metrics_equal_scikit_image(channels: int | None) -> None:
     )
     assert psnr(a, a, 1.0) == float("inf")
     assert ssim(a, a, 1.0) == pytest.approx(1.0)
+
+
+def test_band_squared_error_splits_the_error_by_frequency() -> None:
+    rng = np.random.default_rng(3)
+    sharp = rng.integers(0, 256, (4, 120, 160, 3), dtype=np.uint8)
+    noisy = np.clip(sharp + rng.normal(0, 5, sharp.shape), 0, 255).astype(np.uint8)
+    bands = band_squared_error(sharp, noisy)
+    assert bands.shape == (len(FREQUENCY_BAND_EDGES) - 1,)
+    squared = np.sum((noisy.astype(float) - sharp) ** 2)
+    assert bands.sum() == pytest.approx(squared)  # Parseval: the bands add up to the error
+    assert band_squared_error(sharp[0], noisy[0]).sum() == pytest.approx(
+        np.sum((noisy[0].astype(float) - sharp[0]) ** 2))  # fmt: skip
+    columns = np.arange(160)[None, :, None]
+    zero = np.zeros((120, 160, 1))
+    for error, band in ((zero + 7.0, 0), (np.cos(2 * np.pi * columns / 8) + zero, 3),
+                        ((-1.0) ** (np.arange(120)[:, None, None] + columns) + zero, 4)):
+        split = band_squared_error(zero, error)
+        assert split[band] == pytest.approx(split.sum())  # fmt: skip
+
+
+def test_longer_blur_moves_the_error_to_lower_frequencies() -> None:
+    photo = to_gray(skimage.data.astronaut())[100:220, 200:360, None]
+    low_share = []
+    for length in (3, 15):
+        blurred = blur_image(photo[..., 0], motion_kernel(length, 30), boundary="reflect")
+        bands = band_squared_error(photo, blurred[..., None])
+        low_share.append(bands[:3].sum() / bands.sum())  # below 1/8 cycles per pixel
+    assert low_share[1] > low_share[0] + 0.2
+
+
+def test_band_squared_error_refuses_bad_input() -> None:
+    frames = np.zeros((2, 8, 8, 3))
+    with pytest.raises(ValueError, match="one shape"):
+        band_squared_error(frames, frames[:1])
+    with pytest.raises(ValueError, match="one shape"):
+        band_squared_error(frames[0, 0], frames[0, 0])
+    with pytest.raises(ValueError, match="edges"):
+        band_squared_error(frames, frames, edges=(0.0, 0.25, 0.5))
 
 
 @pytest.mark.parametrize(

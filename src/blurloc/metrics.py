@@ -92,6 +92,59 @@ def mean_frame_psnr(pairs: list[tuple[np.ndarray, np.ndarray]]) -> float:
                           for frame, truth in zip(video, sharp, strict=True)]))  # fmt: skip
 
 
+#: Edges (cycles per pixel) of the radial frequency bands of :func:`band_squared_error`: octaves
+#: up to a quarter of the sampling rate, then everything up to the corners of the spectrum.
+FREQUENCY_BAND_EDGES = (0.0, 1 / 32, 1 / 16, 1 / 8, 1 / 4, np.inf)
+
+
+def band_squared_error(
+    reference: np.ndarray, estimate: np.ndarray, edges: tuple[float, ...] = FREQUENCY_BAND_EDGES
+) -> np.ndarray:
+    """Summed squared error of ``estimate`` split by spatial frequency (Parseval's theorem).
+
+    The 2-D DFT of each error image (estimate minus reference, per frame and channel), its
+    energy divided by the pixel count, summed over the frequencies whose radius
+    ``sqrt(fx^2 + fy^2)`` (cycles per pixel) lies in ``[edges[k], edges[k + 1])``. The bands
+    together give the summed squared error exactly, so eq. 6's MSE, and a PSNR gain, split into
+    the bands' shares.
+
+    Parameters
+    ----------
+    reference, estimate : numpy.ndarray
+        Frames of one shape, (H, W, C) or (T, H, W, C) (channels last), uint8 or float.
+    edges : tuple of float
+        Increasing band edges from 0; the last must exceed 0.5·√2 (e.g. ``inf``) so that every
+        frequency falls in a band.
+
+    Returns
+    -------
+    numpy.ndarray
+        (len(edges) - 1,) squared error per band, summed over frames, channels and pixels (the
+        units of the images, squared).
+
+    Raises
+    ------
+    ValueError
+        If the shapes differ or are not (H, W, C) / (T, H, W, C), or the edges do not start
+        at 0, increase and cover the spectrum.
+    """
+    reference, estimate = np.asarray(reference), np.asarray(estimate)
+    if reference.shape != estimate.shape or reference.ndim not in (3, 4):
+        raise ValueError(f"frames must be two (H, W, C) or (T, H, W, C) arrays of one shape, "
+                         f"got {reference.shape} and {estimate.shape}")  # fmt: skip
+    edges_array = np.asarray(edges, dtype=np.float64)
+    if (len(edges_array) < 2 or edges_array[0] != 0 or np.any(np.diff(edges_array) <= 0)
+            or edges_array[-1] <= 0.5 * np.sqrt(2)):  # fmt: skip
+        raise ValueError(f"edges must start at 0, increase and end above 0.5*sqrt(2), got {edges}")
+    height, width = reference.shape[-3:-1]
+    error = estimate.astype(np.float64) - reference.astype(np.float64)
+    energy = np.abs(np.fft.fft2(error, axes=(-3, -2))) ** 2 / (height * width)
+    energy = energy.reshape(-1, height, width, reference.shape[-1]).sum(axis=(0, 3))
+    radius = np.hypot(*np.meshgrid(np.fft.fftfreq(height), np.fft.fftfreq(width), indexing="ij"))
+    band = np.searchsorted(edges_array, radius, side="right") - 1
+    return np.bincount(band.ravel(), weights=energy.ravel(), minlength=len(edges_array) - 1)
+
+
 def position_errors(pair: PosePair) -> np.ndarray:
     """Position error of every frame, ``||c_est - c_ref||_2``.
 
