@@ -17,7 +17,8 @@ trainings in ``--out`` are reused. Variants: notebook 03's four at equal paramet
 half instead of quarter resolution) and ``wide`` (48 channels, hidden state 32), which change
 the capacity on purpose, and ``aligned`` (the full network whose recurrent states follow the
 image: moved by the frame-to-frame translation, ``VideoDeblurConfig(align=True)``; no extra
-parameters).
+parameters) and ``bounded`` (the full network with its hidden and auxiliary states passed
+through tanh, ``VideoDeblurConfig(bounded_state=True)``; no extra parameters).
 """
 
 from __future__ import annotations
@@ -51,6 +52,7 @@ VARIANTS = {
     "half_resolution": VideoDeblurConfig(feature_stride=2),
     "wide": VideoDeblurConfig(channels=48, hidden=32),
     "aligned": VideoDeblurConfig(align=True),
+    "bounded": VideoDeblurConfig(bounded_state=True),
 }
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
@@ -99,6 +100,24 @@ def test_state_carries_across_chunks() -> None:
     whole = restore_sequence(model, video, chunk=7)
     pieces = restore_sequence(model, video, chunk=3)
     assert np.abs(whole.astype(int) - pieces.astype(int)).max() <= 1  # float rounding only
+
+
+def test_bounded_state_stays_bounded_where_an_expansive_recurrence_blows_up() -> None:
+    torch.manual_seed(2)
+    frames = torch.rand(1, 60, 3, 16, 16) * 2 - 1
+    unbounded = VideoDeblurNet(VideoDeblurConfig(channels=8, hidden=4, blocks=1))
+    with torch.no_grad():
+        for parameter in unbounded.parameters():
+            parameter.mul_(4.0)  # an expansive recurrence, as a training-loss spike can leave
+    bounded = VideoDeblurNet(replace(unbounded.config, bounded_state=True))
+    bounded.load_state_dict(unbounded.state_dict())  # the same weights, states through tanh
+    with torch.no_grad():
+        restored, (hidden, aux, _, _) = bounded(frames)
+        _, (exploded, _, _, _) = unbounded(frames)
+    assert hidden.abs().max() <= 1 and aux.abs().max() <= 1 and torch.isfinite(restored).all()
+    assert not torch.isfinite(exploded).all() or exploded.abs().max() > 1e6
+    assert not VideoDeblurConfig().bounded_state  # the shipped network's states are unbounded
+    assert not load_video_deblur(DEFAULT_CHECKPOINT).config.bounded_state
 
 
 @pytest.mark.parametrize("shift", [(3, 0), (0, -5), (7, 4), (-2, -9)])

@@ -16,7 +16,9 @@ previous features). Flags switch off the auxiliary state, the blending or the re
 (then every frame is deblurred alone: the single-frame baseline). With ``align`` the recurrent
 states follow the image before each frame: they are moved by the global translation of the
 content between the previous and the current blurred frame, measured by phase correlation (no
-parameters).
+parameters). With ``bounded_state`` the hidden and auxiliary states pass through tanh, so that
+they stay within (-1, 1) however long the video; without it (the shipped network) nothing bounds
+them, and a network whose recurrence has become expansive in training blows up on long videos.
 """
 
 from __future__ import annotations
@@ -32,7 +34,8 @@ from torch import nn
 class VideoDeblurConfig:
     """Widths and switches of :class:`VideoDeblurNet`; ``feature_stride`` (4 or 2) is how much
     coarser than the frame the recurrent features are; ``align`` moves the recurrent states by
-    the frame-to-frame translation (:func:`frame_translation`)."""
+    the frame-to-frame translation (:func:`frame_translation`); ``bounded_state`` passes the
+    hidden and auxiliary states (eq. 8-9) through tanh."""
 
     channels: int = 32
     hidden: int = 24
@@ -42,6 +45,7 @@ class VideoDeblurConfig:
     recurrent: bool = True
     feature_stride: int = 4
     align: bool = False
+    bounded_state: bool = False
 
     def __post_init__(self) -> None:
         if self.feature_stride not in (2, 4):
@@ -215,11 +219,15 @@ class VideoDeblurNet(nn.Module):
                 hidden = features.new_zeros(n, config.hidden, *features.shape[-2:])
             features = self.recur(torch.cat([features, hidden], 1))
             hidden = self.to_hidden(features)
+            if config.bounded_state:
+                hidden = torch.tanh(hidden)
             parts = [features, hidden]
             if config.aux_state:
                 if aux is None or not config.recurrent:
                     aux = torch.zeros_like(hidden)
                 aux = self.aux(torch.cat([hidden, aux], 1))
+                if config.bounded_state:
+                    aux = torch.tanh(aux)
                 parts.append(aux)
             if config.blending:
                 if blended is None or not config.recurrent:
