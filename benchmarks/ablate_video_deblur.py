@@ -5,20 +5,23 @@ seeds, scored on the stand-in's test sequences, with the paired difference to th
         [--seeds 0 1 2] [--steps 400 [1600]] [--frames 100] [--out build/video_ablation]
         [--workers 2]
 
-Each variant is trained as notebook 03 trains its ablations (``VideoTrainConfig`` with ``--steps``
-optimiser steps, on the first 250 frames of every training sequence, in ``--workers`` one-thread
-processes), once per seed and per training length (labelled ``<variant>@<steps>``), and scored on
-the first ``--frames`` frames of every test sequence (PSNR against the sharp renders; mean of the
-per-scene means). Printed: each variant's gain over the blurred input per seed, and a table of
-its parameter count, its mean and spread over seeds and its paired difference to the reference
-(the first variant at the first training length; same seeds) with a 95 % t-interval. Finished
-trainings in ``--out`` are reused. Variants: notebook 03's four at equal parameter count
-(``full``, ``no_aux``, ``no_blending``, ``single_frame``), ``half_resolution`` (features at
-half instead of quarter resolution) and ``wide`` (48 channels, hidden state 32), which change
-the capacity on purpose, and ``aligned`` (the full network whose recurrent states follow the
-image: moved by the frame-to-frame translation, ``VideoDeblurConfig(align=True)``; no extra
-parameters) and ``bounded`` (the full network with its hidden and auxiliary states passed
-through tanh, ``VideoDeblurConfig(bounded_state=True)``; no extra parameters).
+Each variant is trained as notebook 03 trains its ablations (``VideoTrainConfig`` with
+``--steps`` optimiser steps, on the first 250 frames of every training sequence, in
+``--workers`` one-thread processes), once per seed and per training length (labelled
+``<variant>@<steps>``), and scored on the first ``--frames`` frames of every test sequence (PSNR
+against the sharp renders; mean of the per-scene means). Printed: each variant's gain over the
+blurred input per seed, and a table of its parameter count, its mean and spread over seeds and
+its paired difference to the reference (the first variant at the first training length; same
+seeds) with a 95 % t-interval; last, per run, the step whose network was scored (``best.pt``:
+the best validation) and how far the recurrent state of the network at the end of training
+(``last.pt``) grows over the longest test sequence. Finished trainings in ``--out`` are reused.
+Variants: notebook 03's four at equal parameter count (``full``, ``no_aux``, ``no_blending``,
+``single_frame``), ``half_resolution`` (features at half instead of quarter resolution) and
+``wide`` (48 channels, hidden state 32), which change the capacity on purpose, and ``aligned``
+(the full network whose recurrent states follow the image: moved by the frame-to-frame
+translation, ``VideoDeblurConfig(align=True)``; no extra parameters) and ``bounded`` (the full
+network with its hidden and auxiliary states passed through tanh,
+``VideoDeblurConfig(bounded_state=True)``; no extra parameters).
 """
 
 from __future__ import annotations
@@ -26,8 +29,10 @@ from __future__ import annotations
 import argparse
 import time
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
+import torch
 
 from blurloc.data import list_scenes, load_split, read_image
 from blurloc.experiments.video_ablation import (
@@ -37,7 +42,7 @@ from blurloc.experiments.video_ablation import (
     equal_parameter_variants,
     train_ablations,
 )
-from blurloc.inference import to_tensor
+from blurloc.inference import load_video_deblur, to_tensor
 from blurloc.models.video_deblur import (
     VideoDeblurConfig,
     VideoDeblurNet,
@@ -67,6 +72,25 @@ def frame_shifts(root: str, frames: int) -> np.ndarray:
             video = to_tensor(np.stack([read_image(part.path(f)) for f in part.frame_ids]))
             shifts.append(frame_translation(video[:-1], video[1:]).norm(dim=1).numpy())
     return np.concatenate(shifts)
+
+
+def largest_state(checkpoint: Path, video: torch.Tensor) -> float:
+    """Largest magnitude of the hidden state of eq. 8 while a network restores ``video``
+    ((T, 3, H, W) in [-1, 1]) frame by frame; ``inf`` once it overflows or turns NaN."""
+    model = load_video_deblur(checkpoint)
+    state, largest = None, 0.0
+    with torch.inference_mode():
+        for frame in video:
+            _, state = model(frame[None, None], state)
+            largest = max(largest, float(torch.nan_to_num(state[0], nan=np.inf).abs().max()))
+    return largest
+
+
+def longest_test_video(root: str, frames: int) -> torch.Tensor:
+    """The first ``frames`` frames of the stand-in's longest test sequence, as a tensor."""
+    sequence = max((s for scene in list_scenes(root) for s in load_split(root, scene, "test")),
+                   key=len).first(frames)  # fmt: skip
+    return to_tensor(np.stack([read_image(sequence.path(f)) for f in sequence.frame_ids]))
 
 
 def main() -> None:
@@ -108,6 +132,13 @@ def main() -> None:
     markdown, _ = save_table(rows, args.out, "video_ablation", INTERVAL_COLUMNS,
                              caption="Video network variants (measured)")
     print(markdown.read_text())
+    video = longest_test_video(args.root, args.frames)
+    print(f"per run: the step of the scored network (best validation) and the largest |hidden "
+          f"state| of the network at the end of training over {len(video)} test frames:")
+    for run in runs:
+        best_step = run.history["step"][int(np.argmax(run.history["val_psnr"]))]
+        print(f"  {run.variant:20s} seed {run.seed}: best at step {best_step}, largest state "
+              f"{largest_state(run.folder / 'last.pt', video):.3g}")
     if "aligned" in variants:
         shifts = frame_shifts(args.root, args.frames)
         print(f"frame-to-frame translation on the scored test frames ({shifts.size} pairs): "
