@@ -249,3 +249,17 @@ def test_parallel_map_hands_a_chunk_to_one_process() -> None:
     processes = list(parallel_map(_process_id, range(6), 2, chunksize=3))
     assert len(set(processes[:3])) == len(set(processes[3:])) == 1
     assert os.getpid() not in processes
+
+
+def test_a_switch_added_off_since_a_run_is_not_a_change() -> None:
+    """Runs made before a model switch existed (e.g. ``bounded_state``) resume when it is off,
+    and are refused when it is on; other settings are compared as they are."""
+    from blurloc.train.loop import _changed
+
+    stored = {"train_config": {"lr": 0.002, "model": {"channels": 32}}}
+    off = {"train_config": {"lr": 0.002, "model": {"channels": 32, "bounded_state": False}}}
+    assert _changed(stored, off) == []
+    on = {"train_config": {"lr": 0.002, "model": {"channels": 32, "bounded_state": True}}}
+    assert _changed(stored, on) == ["train_config.model.bounded_state: None -> True"]
+    zero = {"train_config": {"lr": 0.002, "model": {"channels": 32, "blocks": 0}}}
+    assert _changed(stored, zero) == ["train_config.model.blocks: None -> 0"]

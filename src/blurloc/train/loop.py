@@ -224,9 +224,14 @@ def resume_state(
 
 
 def _changed(stored: dict, wanted: dict, prefix: str = "") -> list[str]:
-    """Names of the entries of ``wanted`` that ``stored`` lacks or holds otherwise (nested)."""
+    """Names of the entries of ``wanted`` that ``stored`` lacks or holds otherwise (nested).
+
+    A switch that is off (False or None) and absent from ``stored`` is not a change: switches
+    are added to the settings off, as the behaviour of the runs made before them."""
     changed = []
     for key, value in wanted.items():
+        if isinstance(stored, dict) and key not in stored and (value is False or value is None):
+            continue
         old = stored.get(key) if isinstance(stored, dict) else None
         if isinstance(value, dict) and isinstance(old, dict):
             changed += _changed(old, value, f"{prefix}{key}.")
