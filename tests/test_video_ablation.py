@@ -11,10 +11,12 @@ import pytest
 from blurloc import plots
 from blurloc.experiments.video_ablation import (
     ABLATED_PARTS,
+    AblationRun,
     ablation_gains,
     ablation_intervals,
     equal_parameter_variants,
     train_ablations,
+    training_health,
 )
 from blurloc.models.video_deblur import (
     VideoDeblurConfig,
@@ -76,6 +78,23 @@ def test_intervals_pair_by_seed_and_word_the_verdict_from_the_interval() -> None
         ablation_intervals({"full": full, "other": {0: 0.1, 1: 0.2}}, {"full": 1, "other": 1})
     with pytest.raises(ValueError, match="reference"):
         ablation_intervals({"other": full}, {"other": 1})
+
+
+def test_training_health_flags_a_loss_spike_and_a_scored_network_from_before_a_collapse() -> None:
+    def run(losses: list[float], psnr: list[float]) -> AblationRun:
+        steps = [100 * (k + 1) for k in range(len(losses))]
+        history = {"step": steps, "train_loss": losses, "val_psnr": psnr, "seconds": steps}
+        return AblationRun("full", len(psnr), Path("."), history)
+
+    steady = run([0.05, 0.03, 0.03, 0.02], [30.0, 31.0, 31.5, 31.6])
+    # the collapse of a recurrent training: a spike, then validation low for good (NaN too)
+    collapsed = run([0.04, 41.0, 0.04, 0.03], [30.5, 19.4, float("nan"), 19.4])
+    healthy, broken = training_health([steady, collapsed])
+    assert healthy["best_step"] == healthy["steps"] == 400 and not healthy["spike"]
+    assert healthy["last_val_db"] == healthy["best_val_db"] == pytest.approx(31.6)
+    assert broken["best_step"] == 100 and broken["steps"] == 400 and broken["spike"]
+    assert broken["peak_loss_ratio"] == pytest.approx(41.0 / 0.04)
+    assert broken["best_val_db"] - broken["last_val_db"] == pytest.approx(11.1)
 
 
 def test_ablations_train_once_per_seed_and_score_against_the_blurred_input(

@@ -88,6 +88,8 @@ EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
         "video_ablation_intervals.csv",
         "video_ablation_intervals.png",
         "video_ablation_intervals.pdf",
+        "video_ablation_health.md",
+        "video_ablation_health.csv",
         "fig04_video_deblurring.png",
         "fig04_video_deblurring.pdf",
         "video_attention.png",

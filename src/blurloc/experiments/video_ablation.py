@@ -34,6 +34,10 @@ ABLATED_PARTS = {
 }
 """What each ablation switches off: eq. 9, eq. 10, or the recurrence itself (every frame alone)."""
 
+SPIKE_FACTOR = 10.0
+"""A training loss spike: an interval whose mean training loss exceeds this many times the
+run's median interval loss."""
+
 INTERVAL_COLUMNS = ("variant", "parameters", "seeds", "gain_mean", "gain_min", "gain_max",
                     "minus_reference", "ci_low", "ci_high", "verdict")  # fmt: skip
 """The columns of :func:`ablation_intervals`' rows, in table order."""
@@ -250,4 +254,41 @@ def ablation_intervals(
             row.update(minus_reference=interval.mean, ci_low=interval.low, ci_high=interval.high,
                        verdict=worded.get(verdict(interval, claimed_sign=-1), unresolved))
         rows.append(row)
+    return rows
+
+
+def training_health(runs: list[AblationRun]) -> list[dict]:
+    """How each training went, read from its history: where the scored network came from and
+    whether the training collapsed on the way.
+
+    A recurrent network can leave training with an expansive recurrence after a loss spike;
+    its validation on whole sequences then falls and stays low, and the network scored
+    (``best.pt``, the best validation) is an early one. This table shows it without running
+    any network.
+
+    Parameters
+    ----------
+    runs : list of AblationRun
+        From :func:`train_ablations`.
+
+    Returns
+    -------
+    list of dict
+        One row per run: ``variant``, ``seed``, ``steps`` (the last step trained),
+        ``best_step`` (the step of the scored network), ``peak_loss_ratio`` (the largest
+        interval mean training loss over the median one), ``spike`` (that ratio above
+        :data:`SPIKE_FACTOR`), and ``best_val_db`` and ``last_val_db`` (validation PSNR of the
+        scored and of the last network; NaN where the network returned NaN).
+    """
+    rows = []
+    for run in runs:
+        history = run.history
+        losses = np.asarray(history["train_loss"], dtype=float)
+        psnr = np.asarray(history["val_psnr"], dtype=float)
+        best = int(np.nanargmax(psnr))
+        ratio = float(np.nanmax(losses) / np.nanmedian(losses))
+        rows.append({"variant": run.variant, "seed": run.seed, "steps": int(history["step"][-1]),
+                     "best_step": int(history["step"][best]), "peak_loss_ratio": ratio,
+                     "spike": bool(ratio > SPIKE_FACTOR), "best_val_db": float(psnr[best]),
+                     "last_val_db": float(psnr[-1])})  # fmt: skip
     return rows
