@@ -51,7 +51,8 @@ from ..images import to_uint8
 from .render import Scene, render_poses, render_reference, surface_depth
 from .scenes import SCENE_NAMES, SEQUENCE_COUNTS, camera_region, make_scene
 
-#: Per-frame motion of the real 7-Scenes trajectories (30 fps, handheld Kinect), from DESIGN.md.
+#: Per-frame motion of the real 7-Scenes trajectories (30 fps, handheld Kinect), quoted from the
+#: package's design notes (measured on the real poses; not measurable here without the dataset).
 REAL_7SCENES_MOTION = {
     "step_median_m": 0.009,
     "step_p95_m": (0.015, 0.032),
