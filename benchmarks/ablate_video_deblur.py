@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from blurloc.data import list_scenes, load_split, read_image
+from blurloc.data import list_scenes, load_split
 from blurloc.experiments.video_ablation import (
     INTERVAL_COLUMNS,
     ablation_gains,
@@ -69,7 +69,7 @@ def frame_shifts(root: str, frames: int) -> np.ndarray:
     for scene in list_scenes(root):
         for sequence in load_split(root, scene, "test"):
             part = sequence.first(frames)
-            video = to_tensor(np.stack([read_image(part.path(f)) for f in part.frame_ids]))
+            video = to_tensor(part.images())
             shifts.append(frame_translation(video[:-1], video[1:]).norm(dim=1).numpy())
     return np.concatenate(shifts)
 
@@ -90,7 +90,7 @@ def longest_test_video(root: str, frames: int) -> torch.Tensor:
     """The first ``frames`` frames of the stand-in's longest test sequence, as a tensor."""
     sequence = max((s for scene in list_scenes(root) for s in load_split(root, scene, "test")),
                    key=len).first(frames)  # fmt: skip
-    return to_tensor(np.stack([read_image(sequence.path(f)) for f in sequence.frame_ids]))
+    return to_tensor(sequence.images())
 
 
 def main() -> None:

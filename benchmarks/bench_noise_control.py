@@ -25,7 +25,7 @@ import itertools
 import numpy as np
 import torch
 
-from blurloc.data import list_scenes, load_split, read_image
+from blurloc.data import list_scenes, load_split
 from blurloc.data.stats import read_blur_metadata
 from blurloc.data.synth import SynthConfig
 from blurloc.images import srgb_to_linear, to_uint8
@@ -62,8 +62,8 @@ def main() -> None:
     for scene in list_scenes(args.root):
         for sequence in load_split(args.root, scene, "test"):
             part = sequence.first(args.frames)
-            blurred = np.stack([read_image(part.path(f)) for f in part.frame_ids])
-            sharp = np.stack([read_image(part.path(f, "sharp")) for f in part.frame_ids])
+            blurred = part.images()
+            sharp = part.images("sharp")
             linear = srgb_to_linear(sharp.astype(np.float64) / 255.0)
             noisy = to_uint8(linear, rng.normal(0.0, sigma, linear.shape))
             scores = {}

@@ -7,6 +7,7 @@ import json
 import shutil
 from pathlib import Path
 
+import cv2
 import numpy as np
 import pytest
 import torch
@@ -227,6 +228,23 @@ def test_a_sequence_cut_to_its_first_frames(quick_root: Path) -> None:
     cut = sequence.first(3)
     assert cut.frame_ids == sequence.frame_ids[:3] and cut.folder == sequence.folder
     assert sequence.first(None) == sequence and len(sequence.first(10**6)) == len(sequence)
+
+
+def test_a_sequence_reads_as_one_video_and_refuses_mixed_sizes_by_name(root: Path) -> None:
+    sequence = load_split(root, "chess", "test")[0]
+    video = sequence.images()
+    assert video.dtype == np.uint8 and video.shape[0] == len(sequence)
+    np.testing.assert_array_equal(video[2], read_image(sequence.path(sequence.frame_ids[2])))
+    picked = sequence.images("sharp", sequence.frame_ids[::-2])
+    np.testing.assert_array_equal(picked[0], read_image(sequence.path(sequence.frame_ids[-1],
+                                                                      "sharp")))  # fmt: skip
+    assert not np.array_equal(picked[0], video[-1])  # the sharp render, not the blurred frame
+    odd = sequence.path(sequence.frame_ids[3])
+    cv2.imwrite(str(odd), np.zeros((10, 12, 3), np.uint8))
+    with pytest.raises(DataError, match=f"{odd.name}: 12x10 px, but .*frame-000000"):
+        sequence.images()
+    with pytest.raises(DataError, match="no frames"):
+        sequence.images(frame_ids=[])
 
 
 def test_link_or_copy_carries_a_file_over_and_replaces_the_target(tmp_path: Path) -> None:

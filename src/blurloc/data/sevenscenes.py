@@ -15,6 +15,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -156,6 +157,38 @@ class SequenceFrames:
     def poses(self) -> np.ndarray:
         """All camera-to-world poses (N, 4, 4), validated."""
         return np.stack([read_pose(self.path(i, "pose")) for i in self.frame_ids])
+
+    def images(self, kind: str = "color", frame_ids: Sequence[int] | None = None) -> np.ndarray:
+        """The sequence's colour frames (``color``) or sharp renders (``sharp``) as one video.
+
+        Parameters
+        ----------
+        kind : str
+            ``color`` (the recorded, blurred frames) or ``sharp`` (a stand-in's renders).
+        frame_ids : sequence of int, optional
+            Which frames, in that order (all of :attr:`frame_ids` when None).
+
+        Returns
+        -------
+        numpy.ndarray
+            RGB uint8 (T, H, W, 3).
+
+        Raises
+        ------
+        DataError
+            Naming a missing or damaged file, or the first frame whose size differs from the
+            first one's.
+        """
+        frame_ids = self.frame_ids if frame_ids is None else tuple(frame_ids)
+        if not frame_ids:
+            raise DataError(f"{self.folder}: no frames to read")
+        images = [read_image(self.path(frame, kind)) for frame in frame_ids]
+        for frame, image in zip(frame_ids, images, strict=True):
+            if image.shape != images[0].shape:
+                raise DataError(f"{self.path(frame, kind)}: {image.shape[1]}x{image.shape[0]} "
+                                f"px, but {self.path(frame_ids[0], kind)} is "
+                                f"{images[0].shape[1]}x{images[0].shape[0]}")  # fmt: skip
+        return np.stack(images)
 
 
 def list_sequence(scene_dir: str | os.PathLike, number: int) -> SequenceFrames:

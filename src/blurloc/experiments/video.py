@@ -13,7 +13,7 @@ import cv2
 import numpy as np
 from tqdm.auto import tqdm
 
-from ..data.sevenscenes import SPLIT_FILES, SequenceFrames, list_scenes, load_split, read_image
+from ..data.sevenscenes import SPLIT_FILES, SequenceFrames, list_scenes, load_split
 from ..deconv import deblur_blind
 from ..files import link_or_copy
 from ..images import as_float_image
@@ -72,8 +72,8 @@ def evaluate_video_deblurring(
     sequences = [s.first(frames_per_sequence) for scene in list_scenes(root)
                  for s in load_split(root, scene, split)]  # fmt: skip
     for sequence in tqdm(sequences, disable=not progress, desc=f"evaluate {split}"):
-        blurred = np.stack([read_image(sequence.path(f, "color")) for f in sequence.frame_ids])
-        sharp = [as_float_image(read_image(sequence.path(f, "sharp"))) for f in sequence.frame_ids]
+        blurred = sequence.images("color")
+        sharp = [as_float_image(image) for image in sequence.images("sharp")]
         for name, method in methods.items():
             restored = method(blurred)
             for index, frame in enumerate(sequence.frame_ids):
@@ -144,8 +144,7 @@ def _write_deblurred_sequence(
     """Deblur one sequence of :func:`write_deblurred_root` into ``folder``."""
     sequence, folder, method = job
     folder.mkdir(parents=True, exist_ok=True)
-    blurred = np.stack([read_image(sequence.path(f, "color")) for f in sequence.frame_ids])
-    restored = method(blurred)
+    restored = method(sequence.images("color"))
     for index, frame in enumerate(sequence.frame_ids):
         cv2.imwrite(str(folder / sequence.path(frame, "color").name), restored[index][..., ::-1])
         for kind in ("pose", "sharp"):

@@ -96,9 +96,8 @@ def load_video_splits(
 
 
 def _read_video(sequence: SequenceFrames, frames: tuple[int, ...]) -> Video:
-    blurred = np.stack([read_image(sequence.path(f, "color")) for f in frames])
-    sharp = np.stack([read_image(sequence.path(f, "sharp")) for f in frames])
-    return blurred, sharp
+    """The blurred and the sharp frames of part of a sequence."""
+    return sequence.images("color", frames), sequence.images("sharp", frames)
 
 
 def _sample_clips(
