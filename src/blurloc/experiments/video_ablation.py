@@ -263,8 +263,10 @@ def training_health(runs: list[AblationRun]) -> list[dict]:
 
     A recurrent network can leave training with an expansive recurrence after a loss spike;
     its validation on whole sequences then falls and stays low, and the network scored
-    (``best.pt``, the best validation) is an early one. This table shows it without running
-    any network.
+    (``best.pt``, the best validation) is an early one. This table shows that without running
+    any network. It cannot show a state that drifts only beyond the length of the validation
+    sequences: such a network validates well and falls apart on a long test video, so the
+    test scores remain the check.
 
     Parameters
     ----------
