@@ -272,11 +272,11 @@ def test_deblurred_root_in_worker_processes_matches_one_process(
     copies = {workers: write_deblurred_root(quick_root, tmp_path / f"w{workers}", restorer,
                                             workers=workers) for workers in (1, 2)}  # fmt: skip
     sequence = load_split(quick_root, "chess", "test")[0]
-    blurred = np.stack([read_image(sequence.path(f)) for f in sequence.frame_ids])
+    blurred = sequence.images()
     expected = restore_sequence(load_video_deblur(DEFAULT_CHECKPOINT), blurred)
     for copy in copies.values():
         written = load_split(copy, "chess", "test")[0]
-        frames = np.stack([read_image(written.path(f)) for f in written.frame_ids])
+        frames = written.images()
         assert np.abs(frames.astype(int) - expected).max() <= 1
     with pytest.raises(ValueError, match="workers"):
         write_deblurred_root(quick_root, tmp_path / "w0", restorer, workers=0)
@@ -334,8 +334,8 @@ def test_the_shipped_network_does_not_drift_over_a_long_video(quick_root: Path) 
     without a drifting recurrent state the first and last 98 frames score the same."""
     sequence = load_split(quick_root, "chess", "test")[0]
     order = [*range(len(sequence)), *range(len(sequence) - 2, 0, -1)]  # 0..7, 6..1: period 14
-    blurred = np.stack([read_image(sequence.path(f)) for f in sequence.frame_ids])[order]
-    sharp = np.stack([read_image(sequence.path(f, "sharp")) for f in sequence.frame_ids])[order]
+    blurred = sequence.images()[order]
+    sharp = sequence.images("sharp")[order]
     repeats = 1008 // len(order)
     network = load_video_deblur(DEFAULT_CHECKPOINT)
     restored = restore_sequence(network, np.tile(blurred, (repeats, 1, 1, 1)))
