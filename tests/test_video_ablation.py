@@ -112,6 +112,9 @@ def test_ablations_train_once_per_seed_and_score_against_the_blurred_input(
     with pytest.raises(ValueError, match="workers"):
         train_ablations(quick_root, variants, [0], budget, tmp_path, workers=0)
     gains, rows = ablation_gains(quick_root, runs, frames_per_sequence=3)
+    # scored in two worker processes: the same gains (one thread each; float rounding only)
+    spread, _ = ablation_gains(quick_root, runs[:2], frames_per_sequence=3, workers=2)
+    assert spread["full"] == pytest.approx(gains["full"], abs=1e-4)
     assert set(gains) == set(variants) and all(set(g) == {0, 1} for g in gains.values())
     assert all("ssim" not in row for row in rows)  # the gains need PSNR only
     blurred = np.mean([r["psnr_db"] for r in rows if r["method"] == "blurred"])

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shutil
 from dataclasses import replace
 from pathlib import Path
 
@@ -39,6 +40,7 @@ from blurloc.models.video_deblur import (
     shift_features,
 )
 from blurloc.train.config import VideoTrainConfig
+from blurloc.train.loop import validation_cut
 from blurloc.train.video import load_video_splits, train_video_deblur
 
 SINGLE_FRAME = VideoDeblurConfig(aux_state=False, blending=False, recurrent=False)
@@ -190,6 +192,32 @@ def test_training_learns_resumes_identically_and_checkpoints_load(
     np.testing.assert_allclose(resumed["val_psnr"], straight["val_psnr"], rtol=1e-5)
     model = load_video_deblur(tmp_path / "a" / "best.pt")
     assert model.config.channels == 16
+
+
+def test_validation_parts_are_the_ends_of_whole_training_sequences(
+    quick_root: Path, tmp_path: Path
+) -> None:
+    root = tmp_path / "root"
+    shutil.copytree(quick_root, root)
+    first_train = load_split(root, "chess", "train")[0]
+    shutil.copytree(first_train.folder, root / "chess" / "seq-09")  # a second training sequence
+    split_file = root / "chess" / "TrainSplit.txt"
+    split_file.write_text(split_file.read_text().rstrip("\n") + "\nsequence9\n")
+    whole = len(first_train)
+    splits = load_video_splits(root, ["chess"], frames_per_sequence=3)
+    assert [len(blurred) for blurred, _ in splits["train"]] == [3, 3]
+    assert [len(blurred) for blurred, _ in splits["test"]] == [3]
+    # validation: the end of the whole sequence, not of the 3 frames trained on
+    end = first_train.frame_ids[whole - validation_cut(whole):]
+    blurred, sharp = splits["validation"][0]
+    np.testing.assert_array_equal(blurred, first_train.images("color", end))
+    np.testing.assert_array_equal(sharp, first_train.images("sharp", end))
+    assert len(splits["validation"]) == 2
+    one = load_video_splits(root, ["chess"], frames_per_sequence=3, validation_per_scene=1)
+    assert len(one["validation"]) == 1 and len(one["train"]) == 2
+    np.testing.assert_array_equal(one["validation"][0][0], blurred)
+    with pytest.raises(ValueError, match="validation_per_scene"):
+        load_video_splits(root, validation_per_scene=0)
 
 
 def test_bad_checkpoints_and_videos_are_refused(tmp_path: Path) -> None:

@@ -84,6 +84,7 @@ def train_ablations(
     frames_per_sequence: int | None = None,
     workers: int = 1,
     progress: bool = False,
+    validation_per_scene: int | None = None,
 ) -> list[AblationRun]:
     """Train every variant once per seed with the same budget (finished runs are reused).
 
@@ -111,6 +112,9 @@ def train_ablations(
         Processes that train at once (1: in this process).
     progress : bool
         Show a progress bar over the trainings.
+    validation_per_scene : int, optional
+        Validate on the ends of the first that many training sequences of each scene (all
+        when None; :func:`~blurloc.train.video.load_video_splits`).
 
     Returns
     -------
@@ -125,7 +129,7 @@ def train_ablations(
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
     threads = budget.threads if workers == 1 else max(1, budget.threads // workers)
-    jobs = [(str(root), frames_per_sequence, name, seed,
+    jobs = [(str(root), frames_per_sequence, validation_per_scene, name, seed,
              replace(budget, model=model, seed=seed, threads=threads),
              Path(out_dir) / f"{name}-seed{seed}")
             for name, model in variants.items() for seed in seeds]  # fmt: skip
@@ -136,16 +140,19 @@ def train_ablations(
 
 
 @functools.cache
-def _splits(root: str, frames_per_sequence: int | None) -> dict[str, list[Video]]:
+def _splits(
+    root: str, frames_per_sequence: int | None, validation_per_scene: int | None
+) -> dict[str, list[Video]]:
     """:func:`~blurloc.train.video.load_video_splits`, once per process."""
-    return load_video_splits(root, frames_per_sequence=frames_per_sequence)
+    return load_video_splits(root, frames_per_sequence=frames_per_sequence,
+                             validation_per_scene=validation_per_scene)  # fmt: skip
 
 
 def _train_one(job: tuple) -> AblationRun:
     """Train (or reuse) one run of :func:`train_ablations`."""
-    root, frames_per_sequence, name, seed, config, folder = job
-    history = train_video_deblur(_splits(root, frames_per_sequence), folder, config,
-                                 progress=False)  # fmt: skip
+    root, frames_per_sequence, validation_per_scene, name, seed, config, folder = job
+    splits = _splits(root, frames_per_sequence, validation_per_scene)
+    history = train_video_deblur(splits, folder, config, progress=False)
     return AblationRun(name, seed, folder, history)
 
 
@@ -155,8 +162,12 @@ def ablation_gains(
     device: str = "cpu",
     frames_per_sequence: int | None = None,
     progress: bool = False,
+    workers: int = 1,
 ) -> tuple[dict[str, dict[int, float]], list[dict]]:
     """Score every run on the test sequences: its PSNR gain over the blurred input.
+
+    With ``workers > 1`` the networks are scored in that many one-thread processes
+    (:func:`~blurloc.train.loop.parallel_map`), one network at a time each.
 
     Parameters
     ----------
@@ -170,6 +181,8 @@ def ablation_gains(
         Score only the first that many frames of every test sequence (all when None).
     progress : bool
         Show a progress bar.
+    workers : int
+        Processes that score at once (1: in this process).
 
     Returns
     -------
@@ -183,15 +196,24 @@ def ablation_gains(
     methods = {"blurred": np.asarray}  # the input itself
     for run in runs:
         methods[f"{run.variant}-seed{run.seed}"] = VideoRestorer(run.folder / "best.pt", device)
-    rows = evaluate_video_deblurring(root, methods, "test", progress=progress,
-                                     frames_per_sequence=frames_per_sequence,
-                                     with_ssim=False)  # fmt: skip
+    jobs = [(str(root), name, method, frames_per_sequence) for name, method in methods.items()]
+    scored = tqdm(parallel_map(_score_one, jobs, workers), total=len(jobs),
+                  disable=not progress, desc="score ablations")  # fmt: skip
+    rows = [row for method_rows in scored for row in method_rows]
     means = per_scene_means(rows, "psnr_db")
     gains: dict[str, dict[int, float]] = {}
     for run in runs:
         restored = means[f"{run.variant}-seed{run.seed}"]["mean"]
         gains.setdefault(run.variant, {})[run.seed] = restored - means["blurred"]["mean"]
     return gains, rows
+
+
+def _score_one(job: tuple) -> list[dict]:
+    """The per-frame PSNR rows of one method of :func:`ablation_gains`."""
+    root, name, method, frames_per_sequence = job
+    return evaluate_video_deblurring(root, {name: method}, "test",
+                                     frames_per_sequence=frames_per_sequence,
+                                     with_ssim=False)  # fmt: skip
 
 
 def ablation_intervals(

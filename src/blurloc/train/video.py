@@ -43,13 +43,17 @@ def load_video_splits(
     scenes: list[str] | None = None,
     max_bytes: int = VIDEO_CACHE_BYTES,
     frames_per_sequence: int | None = None,
+    validation_per_scene: int | None = None,
 ) -> dict[str, list[Video]]:
     """Blurred and sharp frames of every sequence, decoded once for a whole training run.
 
     The trainer draws random clips from every training sequence at every step, so the frames
     stay in memory as uint8: 2 x frames x H x W x 3 bytes (the whole default stand-in, 43,000
     frames of 160x120, would take 5 GB; its first 250 frames per sequence 1.3 GB), at most
-    ``max_bytes``.
+    ``max_bytes``. The validation part of a training sequence is its end
+    (:func:`~blurloc.train.loop.validation_cut` of its whole length: 150 of 1000 frames), so
+    that validation runs the recurrence over as many frames as the sequence allows, whatever
+    part of the sequence is trained on.
 
     Parameters
     ----------
@@ -60,38 +64,46 @@ def load_video_splits(
     max_bytes : int
         Bound of the memory the frames may take, bytes (default :data:`VIDEO_CACHE_BYTES`).
     frames_per_sequence : int, optional
-        Read only the first that many frames of every sequence (all when None); the
-        validation frames are then the end of that part.
+        Train on the first that many frames before each validation part, and read only the
+        first that many frames of every test sequence (all when None).
+    validation_per_scene : int, optional
+        Validate on the ends of only the first that many training sequences of each scene
+        (all when None): fewer, long validation sequences cost as much as many short ones.
 
     Returns
     -------
     dict
-        ``train``, ``validation`` (the end of each training sequence) and ``test``: lists of
+        ``train``, ``validation`` (the ends of training sequences) and ``test``: lists of
         (blurred, sharp) pairs of uint8 (T, H, W, 3) arrays.
 
     Raises
     ------
     ValueError
-        If the frames would take more than ``max_bytes`` (naming the root), or a file is bad.
+        If the frames would take more than ``max_bytes`` (naming the root), if
+        ``validation_per_scene`` is not positive, or if a file is bad.
     """
-    selected = [(scene, split, sequence.first(frames_per_sequence))
-                for scene in scenes or list_scenes(root) for split in ("train", "test")
-                for sequence in load_split(root, scene, split)]  # fmt: skip
-    if selected:
-        height, width = read_image(selected[0][2].path(selected[0][2].frame_ids[0])).shape[:2]
-        needed = 2 * sum(len(s) for _, _, s in selected) * height * width * 3
+    if validation_per_scene is not None and validation_per_scene < 1:
+        raise ValueError(f"validation_per_scene must be >= 1, got {validation_per_scene}")
+    parts: list[tuple[str, SequenceFrames, tuple[int, ...]]] = []
+    for scene in scenes or list_scenes(root):
+        for number, sequence in enumerate(load_split(root, scene, "train")):
+            frames = sequence.frame_ids
+            cut = len(frames) - validation_cut(len(frames))
+            parts.append(("train", sequence, frames[:cut][:frames_per_sequence]))
+            if validation_per_scene is None or number < validation_per_scene:
+                parts.append(("validation", sequence, frames[cut:]))
+        parts += [("test", sequence, sequence.frame_ids[:frames_per_sequence])
+                  for sequence in load_split(root, scene, "test")]  # fmt: skip
+    if parts:
+        _, first, frames = parts[0]
+        height, width = read_image(first.path(frames[0])).shape[:2]
+        needed = 2 * sum(len(frames) for _, _, frames in parts) * height * width * 3
         if needed > max_bytes:
             raise ValueError(f"{root}: its frames take {needed / 1e9:.1f} GB in memory, more "
                              f"than {max_bytes / 1e9:.1f} GB: train on fewer --scenes")  # fmt: skip
     splits: dict[str, list[Video]] = {"train": [], "validation": [], "test": []}
-    for _, split, sequence in selected:
-        frames = sequence.frame_ids
-        if split == "train":
-            cut = len(frames) - validation_cut(len(frames))
-            splits["train"].append(_read_video(sequence, frames[:cut]))
-            splits["validation"].append(_read_video(sequence, frames[cut:]))
-        else:
-            splits["test"].append(_read_video(sequence, frames))
+    for split, sequence, frames in parts:
+        splits[split].append(_read_video(sequence, frames))
     return splits
 
 
