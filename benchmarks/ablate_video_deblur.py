@@ -5,9 +5,10 @@ seeds, scored on the stand-in's test sequences, with the paired difference to th
         [--seeds 0 1 2] [--steps 400 [1600]] [--frames 100] [--out build/video_ablation]
         [--workers 2]
 
-Each variant is trained as notebook 03 trains its ablations (``VideoTrainConfig`` with
-``--steps`` optimiser steps, on the first 250 frames of every training sequence, in
-``--workers`` one-thread processes), once per seed and per training length (labelled
+Each variant is trained like notebook 03's ablations (``VideoTrainConfig`` with
+``--steps`` optimiser steps, on the first 250 frames of every training sequence, validated
+every 100 steps on the end of one whole training sequence per scene, in ``--workers``
+one-thread processes), once per seed and per training length (labelled
 ``<variant>@<steps>``), and scored on the first ``--frames`` frames of every test sequence (PSNR
 against the sharp renders; mean of the per-scene means). Printed: each variant's gain over the
 blurred input per seed, and a table of its parameter count, its mean and spread over seeds and
@@ -16,7 +17,8 @@ seeds) with a 95 % t-interval; last, per run, the step whose network was scored 
 the best validation) and how far the recurrent state of the network at the end of training
 (``last.pt``) grows over the longest test sequence. Finished trainings in ``--out`` are reused.
 Variants: notebook 03's four at equal parameter count (``full``, ``no_aux``, ``no_blending``,
-``single_frame``), ``half_resolution`` (features at half instead of quarter resolution) and
+``single_frame``; here with the package's default, unbounded states, where notebook 03 bounds
+them), ``half_resolution`` (features at half instead of quarter resolution) and
 ``wide`` (48 channels, hidden state 32), which change the capacity on purpose, and ``aligned``
 (the full network whose recurrent states follow the image: moved by the frame-to-frame
 translation, ``VideoDeblurConfig(align=True)``; no extra parameters) and ``bounded`` (the full
@@ -114,13 +116,14 @@ def main() -> None:
         budget = VideoTrainConfig(steps=steps, validate_every=100)
         trained = train_ablations(args.root, variants, args.seeds, budget,
                                   f"{args.out}/steps{steps}", frames_per_sequence=250,
-                                  workers=args.workers)  # fmt: skip
+                                  workers=args.workers, validation_per_scene=1)  # fmt: skip
         for run in trained:  # variants labelled with their training length
             label = f"{run.variant}@{steps}"
             runs.append(replace(run, variant=label))
             parameters[label] = parameter_count(VideoDeblurNet(variants[run.variant]))
     seconds = time.perf_counter() - started
-    gains, _ = ablation_gains(args.root, runs, frames_per_sequence=args.frames)
+    gains, _ = ablation_gains(args.root, runs, frames_per_sequence=args.frames,
+                              workers=args.workers)  # fmt: skip
     for name, by_seed in gains.items():
         print(f"{name:20s} " + ", ".join(f"seed {s}: {g:+.2f} dB" for s, g in by_seed.items()))
     intervals = ablation_intervals(gains, parameters, reference=runs[0].variant,

@@ -50,9 +50,10 @@ TRAINING_FRAMES = 250  # per sequence of --root, as notebook 03's trainings
 
 @functools.cache
 def training_splits(root: str, strong_root: str | None) -> dict:
-    """Training and validation videos of ``root`` (first 250 frames of every sequence), with
-    those of ``strong_root`` appended when given; read once per process."""
-    splits = load_video_splits(root, frames_per_sequence=TRAINING_FRAMES)
+    """Training and validation videos of ``root`` (first 250 frames of every training sequence;
+    the end of one whole training sequence per scene), with those of ``strong_root`` appended
+    when given; read once per process."""
+    splits = load_video_splits(root, frames_per_sequence=TRAINING_FRAMES, validation_per_scene=1)
     if strong_root is not None:
         strong = load_video_splits(strong_root)
         splits = {name: splits[name] + strong[name] for name in ("train", "validation")}
