@@ -166,8 +166,8 @@ def ablation_gains(
 ) -> tuple[dict[str, dict[int, float]], list[dict]]:
     """Score every run on the test sequences: its PSNR gain over the blurred input.
 
-    With ``workers > 1`` the networks are scored in that many one-thread processes
-    (:func:`~blurloc.train.loop.parallel_map`), one network at a time each.
+    With ``workers > 1`` the networks are shared out over that many one-thread processes
+    (:func:`~blurloc.train.loop.parallel_map`); each process reads the test frames once.
 
     Parameters
     ----------
@@ -196,10 +196,10 @@ def ablation_gains(
     methods = {"blurred": np.asarray}  # the input itself
     for run in runs:
         methods[f"{run.variant}-seed{run.seed}"] = VideoRestorer(run.folder / "best.pt", device)
-    jobs = [(str(root), name, method, frames_per_sequence) for name, method in methods.items()]
-    scored = tqdm(parallel_map(_score_one, jobs, workers), total=len(jobs),
-                  disable=not progress, desc="score ablations")  # fmt: skip
-    rows = [row for method_rows in scored for row in method_rows]
+    names = list(methods)
+    jobs = [(str(root), {name: methods[name] for name in names[k::workers]}, frames_per_sequence,
+             progress) for k in range(min(workers, len(names)))]  # fmt: skip
+    rows = [row for group_rows in parallel_map(_score_group, jobs, workers) for row in group_rows]
     means = per_scene_means(rows, "psnr_db")
     gains: dict[str, dict[int, float]] = {}
     for run in runs:
@@ -208,10 +208,10 @@ def ablation_gains(
     return gains, rows
 
 
-def _score_one(job: tuple) -> list[dict]:
-    """The per-frame PSNR rows of one method of :func:`ablation_gains`."""
-    root, name, method, frames_per_sequence = job
-    return evaluate_video_deblurring(root, {name: method}, "test",
+def _score_group(job: tuple) -> list[dict]:
+    """The per-frame PSNR rows of a group of the methods of :func:`ablation_gains`."""
+    root, methods, frames_per_sequence, progress = job
+    return evaluate_video_deblurring(root, methods, "test", progress=progress,
                                      frames_per_sequence=frames_per_sequence,
                                      with_ssim=False)  # fmt: skip
 
