@@ -17,13 +17,13 @@ seeds) with a 95 % t-interval; last, per run, the step whose network was scored 
 the best validation) and how far the recurrent state of the network at the end of training
 (``last.pt``) grows over the longest test sequence. Finished trainings in ``--out`` are reused.
 Variants: notebook 03's four at equal parameter count (``full``, ``no_aux``, ``no_blending``,
-``single_frame``; here with the package's default, unbounded states, where notebook 03 bounds
-them), ``half_resolution`` (features at half instead of quarter resolution) and
-``wide`` (48 channels, hidden state 32), which change the capacity on purpose, and ``aligned``
-(the full network whose recurrent states follow the image: moved by the frame-to-frame
-translation, ``VideoDeblurConfig(align=True)``; no extra parameters) and ``bounded`` (the full
-network with its hidden and auxiliary states passed through tanh,
-``VideoDeblurConfig(bounded_state=True)``; no extra parameters).
+``single_frame``; with the package's default, bounded states, as in notebook 03),
+``half_resolution`` (features at half instead of quarter resolution) and ``wide`` (48 channels,
+hidden state 32), which change the capacity on purpose, and ``aligned`` (the full network whose
+recurrent states follow the image: moved by the frame-to-frame translation,
+``VideoDeblurConfig(align=True)``; no extra parameters) and ``unbounded`` (the full network
+without the tanh on its hidden and auxiliary states, ``VideoDeblurConfig(bounded_state=False)``:
+the default until the shipped checkpoint was trained with bounded states; no extra parameters).
 """
 
 from __future__ import annotations
@@ -59,7 +59,7 @@ VARIANTS = {
     "half_resolution": VideoDeblurConfig(feature_stride=2),
     "wide": VideoDeblurConfig(channels=48, hidden=32),
     "aligned": VideoDeblurConfig(align=True),
-    "bounded": VideoDeblurConfig(bounded_state=True),
+    "unbounded": VideoDeblurConfig(bounded_state=False),
 }
 
 

@@ -33,6 +33,7 @@ from blurloc.inference import (
 )
 from blurloc.metrics import mean_frame_psnr
 from blurloc.models.video_deblur import (
+    SWITCHES_OFF,
     VideoDeblurConfig,
     VideoDeblurNet,
     frame_translation,
@@ -107,7 +108,8 @@ def test_state_carries_across_chunks() -> None:
 def test_bounded_state_stays_bounded_where_an_expansive_recurrence_blows_up() -> None:
     torch.manual_seed(2)
     frames = torch.rand(1, 60, 3, 16, 16) * 2 - 1
-    unbounded = VideoDeblurNet(VideoDeblurConfig(channels=8, hidden=4, blocks=1))
+    unbounded = VideoDeblurNet(VideoDeblurConfig(channels=8, hidden=4, blocks=1,
+                                                 bounded_state=False))
     with torch.no_grad():
         for parameter in unbounded.parameters():
             parameter.mul_(4.0)  # an expansive recurrence, as a training-loss spike can leave
@@ -118,8 +120,23 @@ def test_bounded_state_stays_bounded_where_an_expansive_recurrence_blows_up() ->
         _, (exploded, _, _, _) = unbounded(frames)
     assert hidden.abs().max() <= 1 and aux.abs().max() <= 1 and torch.isfinite(restored).all()
     assert not torch.isfinite(exploded).all() or exploded.abs().max() > 1e6
-    assert not VideoDeblurConfig().bounded_state  # the shipped network's states are unbounded
-    assert not load_video_deblur(DEFAULT_CHECKPOINT).config.bounded_state
+    assert VideoDeblurConfig().bounded_state  # the default, and the shipped network's
+    assert load_video_deblur(DEFAULT_CHECKPOINT).config.bounded_state
+
+
+def test_a_checkpoint_made_before_a_switch_existed_loads_with_it_off(tmp_path: Path) -> None:
+    settings = VideoDeblurConfig(channels=8, hidden=4, blocks=1, bounded_state=False).as_dict()
+    network = VideoDeblurNet(VideoDeblurConfig(**settings))
+    legacy = {key: value for key, value in settings.items() if key not in SWITCHES_OFF}
+    torch.save({"format": "blurloc-video-deblur-1", "model_config": legacy,
+                "model": network.state_dict()}, tmp_path / "old.pt")  # fmt: skip
+    loaded = load_video_deblur(tmp_path / "old.pt")
+    assert not loaded.config.bounded_state and not loaded.config.align
+    assert VideoDeblurConfig.from_stored(settings | {"bounded_state": True}).bounded_state
+    torch.save({"format": "blurloc-video-deblur-1", "model_config": {"width": 3},
+                "model": network.state_dict()}, tmp_path / "odd.pt")  # fmt: skip
+    with pytest.raises(ValueError, match="damaged network configuration"):
+        load_video_deblur(tmp_path / "odd.pt")
 
 
 @pytest.mark.parametrize("shift", [(3, 0), (0, -5), (7, 4), (-2, -9)])
@@ -218,6 +235,8 @@ def test_validation_parts_are_the_ends_of_whole_training_sequences(
     np.testing.assert_array_equal(one["validation"][0][0], blurred)
     with pytest.raises(ValueError, match="validation_per_scene"):
         load_video_splits(root, validation_per_scene=0)
+    training = load_video_splits(root, ["chess"], frames_per_sequence=3, with_test=False)
+    assert training["test"] == [] and len(training["train"]) == 2
 
 
 def test_bad_checkpoints_and_videos_are_refused(tmp_path: Path) -> None:

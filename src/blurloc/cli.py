@@ -199,7 +199,11 @@ def _train_video_deblur(args: argparse.Namespace) -> int:
     config = replace(config, **{k: v for k, v in {"steps": args.steps, "batch": args.batch,
                                                   "crop": args.crop}.items() if v is not None})
     choose_device(config.device)  # a bad --device is named before the frames are read
-    splits = load_video_splits(args.data, args.scenes)
+    if args.validation_per_scene < 0:
+        raise ValueError(f"--validation-per-scene must be >= 0 (0: all), got "
+                         f"{args.validation_per_scene}")  # fmt: skip
+    splits = load_video_splits(args.data, args.scenes, with_test=False,
+                               validation_per_scene=args.validation_per_scene or None)
     history = train_video_deblur(splits, args.out, config, progress=not args.quiet,
                                  restart=args.restart)  # fmt: skip
     print(json.dumps({"checkpoint": str(Path(args.out) / "best.pt"),
@@ -355,6 +359,9 @@ def build_parser() -> argparse.ArgumentParser:
     train.add_argument("--steps", type=int, help="optimiser steps (default 1200)")
     train.add_argument("--batch", type=int, help="clips per step (default 8)")
     train.add_argument("--crop", type=int, help="crop size in px (default 64)")
+    train.add_argument("--validation-per-scene", type=int, default=1,
+                       help="validate on the last 15 %% of that many training sequences per "
+                            "scene (default 1; 0: all)")
     train.add_argument("--seed", type=int, default=DEFAULT_SEED)
     train.add_argument("--device", default="auto", help="auto (CUDA when present), cpu, cuda")
     train.add_argument("--restart", action="store_true",

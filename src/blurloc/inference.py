@@ -131,7 +131,7 @@ def load_video_deblur(path: str | os.PathLike, device: str = "cpu") -> VideoDebl
     path = Path(path)
     payload = load_checkpoint(path, "video-deblur", device)
     try:
-        model = VideoDeblurNet(VideoDeblurConfig(**payload["model_config"]))
+        model = VideoDeblurNet(VideoDeblurConfig.from_stored(payload["model_config"]))
     except (KeyError, TypeError, ValueError) as error:
         raise ValueError(f"{path}: damaged network configuration ({error})") from None
     _build(path, model, payload["model"])

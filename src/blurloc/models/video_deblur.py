@@ -16,9 +16,10 @@ previous features). Flags switch off the auxiliary state, the blending or the re
 (then every frame is deblurred alone: the single-frame baseline). With ``align`` the recurrent
 states follow the image before each frame: they are moved by the global translation of the
 content between the previous and the current blurred frame, measured by phase correlation (no
-parameters). With ``bounded_state`` the hidden and auxiliary states pass through tanh, so that
-they stay within (-1, 1) however long the video; without it (the shipped network) nothing bounds
-them, and a network whose recurrence has become expansive in training blows up on long videos.
+parameters). With ``bounded_state`` (the default, and the shipped network's) the hidden and
+auxiliary states pass through tanh, so that they stay within (-1, 1) however long the video;
+without it nothing bounds them, and a network whose recurrence has become expansive in training
+blows up on long videos.
 """
 
 from __future__ import annotations
@@ -45,7 +46,7 @@ class VideoDeblurConfig:
     recurrent: bool = True
     feature_stride: int = 4
     align: bool = False
-    bounded_state: bool = False
+    bounded_state: bool = True
 
     def __post_init__(self) -> None:
         if self.feature_stride not in (2, 4):
@@ -54,6 +55,35 @@ class VideoDeblurConfig:
     def as_dict(self) -> dict:
         """Plain dict (stored in checkpoints)."""
         return asdict(self)
+
+    @classmethod
+    def from_stored(cls, settings: dict) -> VideoDeblurConfig:
+        """The configuration a checkpoint stored (:meth:`as_dict`).
+
+        A switch added to the network after the checkpoint was made is absent from it and
+        means off, whatever its default now: the stored network was trained without it (the
+        networks stored before ``bounded_state`` existed have unbounded states).
+
+        Parameters
+        ----------
+        settings : dict
+            The stored settings.
+
+        Returns
+        -------
+        VideoDeblurConfig
+
+        Raises
+        ------
+        TypeError
+            On a setting this network does not have.
+        """
+        return cls(**{**SWITCHES_OFF, **settings})
+
+
+#: The switches of :class:`VideoDeblurConfig` added after the first checkpoints, all off:
+#: what a stored configuration that lacks them means.
+SWITCHES_OFF = {"align": False, "bounded_state": False}
 
 
 class ResidualBlock(nn.Module):

@@ -44,6 +44,7 @@ def load_video_splits(
     max_bytes: int = VIDEO_CACHE_BYTES,
     frames_per_sequence: int | None = None,
     validation_per_scene: int | None = None,
+    with_test: bool = True,
 ) -> dict[str, list[Video]]:
     """Blurred and sharp frames of every sequence, decoded once for a whole training run.
 
@@ -69,12 +70,15 @@ def load_video_splits(
     validation_per_scene : int, optional
         Validate on the ends of only the first that many training sequences of each scene
         (all when None): fewer, long validation sequences cost as much as many short ones.
+    with_test : bool
+        Read the test sequences too (a training needs only ``train`` and ``validation``; the
+        whole default stand-in's training split takes 3 GB).
 
     Returns
     -------
     dict
-        ``train``, ``validation`` (the ends of training sequences) and ``test``: lists of
-        (blurred, sharp) pairs of uint8 (T, H, W, 3) arrays.
+        ``train``, ``validation`` (the ends of training sequences) and ``test`` (empty without
+        ``with_test``): lists of (blurred, sharp) pairs of uint8 (T, H, W, 3) arrays.
 
     Raises
     ------
@@ -92,8 +96,9 @@ def load_video_splits(
             parts.append(("train", sequence, frames[:cut][:frames_per_sequence]))
             if validation_per_scene is None or number < validation_per_scene:
                 parts.append(("validation", sequence, frames[cut:]))
-        parts += [("test", sequence, sequence.frame_ids[:frames_per_sequence])
-                  for sequence in load_split(root, scene, "test")]  # fmt: skip
+        if with_test:
+            parts += [("test", sequence, sequence.frame_ids[:frames_per_sequence])
+                      for sequence in load_split(root, scene, "test")]  # fmt: skip
     if parts:
         _, first, frames = parts[0]
         height, width = read_image(first.path(frames[0])).shape[:2]
