@@ -15,7 +15,10 @@ blurred input per seed, and a table of its parameter count, its mean and spread 
 its paired difference to the reference (the first variant at the first training length; same
 seeds) with a 95 % t-interval; last, per run, the step whose network was scored (``best.pt``:
 the best validation) and how far the recurrent state of the network at the end of training
-(``last.pt``) grows over the longest test sequence. Finished trainings in ``--out`` are reused.
+(``last.pt``) grows over the longest test sequence. Finished trainings in ``--out`` are reused;
+one made with other settings is refused (runs from before bounded recurrent states became the
+package's default among them: the old ``full`` runs are this script's ``unbounded``; delete or
+move them).
 Variants: notebook 03's four at equal parameter count (``full``, ``no_aux``, ``no_blending``,
 ``single_frame``; with the package's default, bounded states, as in notebook 03),
 ``half_resolution`` (features at half instead of quarter resolution) and ``wide`` (48 channels,

@@ -10,15 +10,17 @@ GoPro-style photo videos (:func:`blurloc.experiments.photo_video.photo_video_gai
 4.5, 9 and 13.5 px, and real high-frame-rate footage averaged the GoPro way is often longer.
 Two trainings per seed with one budget (``VideoTrainConfig`` with ``--steps`` steps, the full
 network of notebook 03, in ``--workers`` one-thread processes): ``standin``, on the first 250
-frames of every training sequence of ``--root`` (what the shipped checkpoint sees), and
+frames of every training sequence of ``--root`` (as notebook 03's ablations), and
 ``blur_range``, on those plus the training sequences of ``--strong-root``, a second stand-in
 rendered with a longer exposure and another seed (other camera paths), its clips drawn from
-the union; each keeps its best checkpoint on the validation frames of what it trains on.
+the union; each keeps its best checkpoint on the validation frames of what it trains on (the
+last 15 % of one whole training sequence per scene of each root it trains on).
 Every network is scored on the first ``--frames`` frames of every test sequence of both roots
 and on the photo videos. Printed: each network's PSNR gain over the blurred input per seed,
 and, per test set, the paired difference ``blur_range - standin`` with its 95 % t-interval
 (:func:`blurloc.experiments.video_ablation.ablation_intervals`).
-Finished trainings in ``--out`` are reused.
+Finished trainings in ``--out`` are reused; one made with other settings is refused (runs
+from before bounded recurrent states became the package's default among them: delete them).
 """
 
 from __future__ import annotations
@@ -53,9 +55,10 @@ def training_splits(root: str, strong_root: str | None) -> dict:
     """Training and validation videos of ``root`` (first 250 frames of every training sequence;
     the end of one whole training sequence per scene), with those of ``strong_root`` appended
     when given; read once per process."""
-    splits = load_video_splits(root, frames_per_sequence=TRAINING_FRAMES, validation_per_scene=1)
+    splits = load_video_splits(root, frames_per_sequence=TRAINING_FRAMES, validation_per_scene=1,
+                               with_test=False)  # fmt: skip
     if strong_root is not None:
-        strong = load_video_splits(strong_root)
+        strong = load_video_splits(strong_root, validation_per_scene=1, with_test=False)
         splits = {name: splits[name] + strong[name] for name in ("train", "validation")}
     return splits
 

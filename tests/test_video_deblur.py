@@ -209,6 +209,10 @@ def test_training_learns_resumes_identically_and_checkpoints_load(
     np.testing.assert_allclose(resumed["val_psnr"], straight["val_psnr"], rtol=1e-5)
     model = load_video_deblur(tmp_path / "a" / "best.pt")
     assert model.config.channels == 16
+    # a best network chosen on other validation frames is not continued
+    fewer = {**splits, "validation": splits["validation"][:-1]}
+    with pytest.raises(ValueError, match=r"validation\.sequences"):
+        train_video_deblur(fewer, tmp_path / "b", config, progress=False)
 
 
 def test_validation_parts_are_the_ends_of_whole_training_sequences(
@@ -237,6 +241,11 @@ def test_validation_parts_are_the_ends_of_whole_training_sequences(
         load_video_splits(root, validation_per_scene=0)
     training = load_video_splits(root, ["chess"], frames_per_sequence=3, with_test=False)
     assert training["test"] == [] and len(training["train"]) == 2
+    # the memory bound counts only what is read: a training fits where training + test do not
+    needed = sum(b.nbytes + s.nbytes for kind in ("train", "validation") for b, s in training[kind])
+    load_video_splits(root, ["chess"], frames_per_sequence=3, with_test=False, max_bytes=needed)
+    with pytest.raises(ValueError, match="GB in memory"):
+        load_video_splits(root, ["chess"], frames_per_sequence=3, max_bytes=needed)
 
 
 def test_bad_checkpoints_and_videos_are_refused(tmp_path: Path) -> None:

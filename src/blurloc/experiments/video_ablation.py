@@ -144,7 +144,7 @@ def _splits(
     root: str, frames_per_sequence: int | None, validation_per_scene: int | None
 ) -> dict[str, list[Video]]:
     """:func:`~blurloc.train.video.load_video_splits`, once per process."""
-    return load_video_splits(root, frames_per_sequence=frames_per_sequence,
+    return load_video_splits(root, frames_per_sequence=frames_per_sequence, with_test=False,
                              validation_per_scene=validation_per_scene)  # fmt: skip
 
 

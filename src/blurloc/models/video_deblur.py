@@ -24,7 +24,9 @@ blows up on long videos.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, replace
+from typing import Any
 
 import torch
 import torch.nn.functional as F
@@ -57,7 +59,7 @@ class VideoDeblurConfig:
         return asdict(self)
 
     @classmethod
-    def from_stored(cls, settings: dict) -> VideoDeblurConfig:
+    def from_stored(cls, settings: Mapping[str, Any]) -> VideoDeblurConfig:
         """The configuration a checkpoint stored (:meth:`as_dict`).
 
         A switch added to the network after the checkpoint was made is absent from it and
@@ -77,6 +79,8 @@ class VideoDeblurConfig:
         ------
         TypeError
             On a setting this network does not have.
+        ValueError
+            On a setting's value the network refuses (e.g. ``feature_stride``).
         """
         return cls(**{**SWITCHES_OFF, **settings})
 

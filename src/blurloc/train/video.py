@@ -175,8 +175,9 @@ def train_video_deblur(
     """Train :class:`~blurloc.models.video_deblur.VideoDeblurNet` and keep its best validation.
 
     ``best.pt`` holds the network with the best validation PSNR, ``last.pt`` (written at every
-    validation) the state to resume from. A run in ``out_dir`` with the same settings resumes
-    where it stopped, with the same numbers as an uninterrupted run.
+    validation) the state to resume from. A run in ``out_dir`` with the same settings and as
+    many validation sequences and frames resumes where it stopped, with the same numbers as an
+    uninterrupted run (a best network chosen on other validation frames is never resumed).
 
     Parameters
     ----------
@@ -208,14 +209,16 @@ def train_video_deblur(
     config = config or VideoTrainConfig()
     out_dir = Path(out_dir)
     device = choose_device(config.device)
-    settings = {"train_config": config.settings()}
+    validation = {"sequences": len(splits["validation"]),
+                  "frames": sum(len(blurred) for blurred, _ in splits["validation"])}  # fmt: skip
+    settings = {"train_config": config.settings(), "validation": validation}
     resumed = resume_state(out_dir, "video-deblur", settings, restart, device)
     with fixed_threads(config.threads):
-        return _train(splits, out_dir, config, device, resumed, progress, stop_after)
+        return _train(splits, out_dir, config, settings, device, resumed, progress, stop_after)
 
 
 def _train(
-    splits: dict[str, list[Video]], out_dir: Path, config: VideoTrainConfig,
+    splits: dict[str, list[Video]], out_dir: Path, config: VideoTrainConfig, settings: dict,
     device: torch.device, resumed: dict | None, progress: bool, stop_after: int | None,
 ) -> dict:  # fmt: skip
     """The loop of :func:`train_video_deblur`, from scratch or from ``resumed``."""
@@ -260,8 +263,7 @@ def _train(
             payload = {
                 "format": CHECKPOINT_FORMATS["video-deblur"],
                 "model_config": config.model.as_dict(), "model": model.state_dict(),
-                "step": step, "history": history, "train_config": config.settings(),
-                "val_psnr": psnr_db,
+                "step": step, "history": history, **settings, "val_psnr": psnr_db,
             }  # fmt: skip
             if psnr_db > best:
                 best = psnr_db
