@@ -1,23 +1,31 @@
-"""Does the video network gain more on strong camera blur when it is trained on a wider range
-of blur, and what does that cost it on the stand-in's own blur?
+"""Does the video network gain more on strong or real-looking camera blur when it is trained on
+a wider range of blur or on natural image content, and what does that cost it on the stand-in's
+own blur?
 
     blurloc synth --out data/standin-strong --blur-strength 6.6 --frames 120 --seed 1
     python benchmarks/train_blur_range.py --root data/standin --strong-root data/standin-strong \
         [--seeds 0 1 2] [--steps 1200] [--frames 100] [--out build/blur_range] [--workers 2]
+    python benchmarks/train_blur_range.py --root data/standin --photo-videos 14 \
+        --out build/photo_mix
 
 The stand-in's blur is a few pixels (median 3.2 px at 160x120, 90th percentile 6.5 px); the
 GoPro-style photo videos (:func:`blurloc.experiments.photo_video.photo_video_gains`) carry about
 4.5, 9 and 13.5 px, and real high-frame-rate footage averaged the GoPro way is often longer.
-Two trainings per seed with one budget (``VideoTrainConfig`` with ``--steps`` steps, the full
+Trainings per seed with one budget (``VideoTrainConfig`` with ``--steps`` steps, the full
 network of notebook 03, in ``--workers`` one-thread processes): ``standin``, on the first 250
-frames of every training sequence of ``--root`` (as notebook 03's ablations), and
-``blur_range``, on those plus the training sequences of ``--strong-root``, a second stand-in
-rendered with a longer exposure and another seed (other camera paths), its clips drawn from
-the union; each keeps its best checkpoint on the validation frames of what it trains on (the
-last 15 % of one whole training sequence per scene of each root it trains on).
-Every network is scored on the first ``--frames`` frames of every test sequence of both roots
+frames of every training sequence of ``--root`` (as notebook 03's ablations); with
+``--strong-root``, ``blur_range``, on those plus the training sequences of a second stand-in
+rendered with a longer exposure and another seed (other camera paths); with
+``--photo-videos N``, ``photo_mix``, on those plus N 30-frame GoPro-style videos made from
+photographs that the photo-video set does not show
+(:func:`blurloc.experiments.photo_video.photo_training_videos`, seed 0; 14 beside the default
+stand-in's 28 training sequences: a third of the clips). Clips are drawn from the union, every
+video equally often. Each network keeps its best checkpoint on the validation frames of what it
+trains on (the last 15 % of one whole training sequence per scene of each root; N/2 more photo
+videos, seed 1, for ``photo_mix``).
+Every network is scored on the first ``--frames`` frames of every test sequence of each root
 and on the photo videos. Printed: each network's PSNR gain over the blurred input per seed,
-and, per test set, the paired difference ``blur_range - standin`` with its 95 % t-interval
+and, per test set, the paired difference to ``standin`` with its 95 % t-interval
 (:func:`blurloc.experiments.video_ablation.ablation_intervals`).
 Finished trainings in ``--out`` are reused; one made with other settings is refused (runs
 from before bounded recurrent states became the package's default among them: delete them).
@@ -33,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from blurloc.experiments.photo_video import photo_video_gains
+from blurloc.experiments.photo_video import photo_training_videos, photo_video_gains
 from blurloc.experiments.video_ablation import (
     INTERVAL_COLUMNS,
     AblationRun,
@@ -48,34 +56,44 @@ from blurloc.train.loop import parallel_map
 from blurloc.train.video import load_video_splits, train_video_deblur
 
 TRAINING_FRAMES = 250  # per sequence of --root, as notebook 03's trainings
+PHOTO_VIDEO_FRAMES = 30  # per photo training video
 
 
 @functools.cache
-def training_splits(root: str, strong_root: str | None) -> dict:
+def training_splits(root: str, strong_root: str | None, photo_videos: int) -> dict:
     """Training and validation videos of ``root`` (first 250 frames of every training sequence;
-    the end of one whole training sequence per scene), with those of ``strong_root`` appended
-    when given; read once per process."""
+    the end of one whole training sequence per scene), with those of ``strong_root`` and
+    ``photo_videos`` photo videos (half as many more to validate on) appended when given; read
+    once per process."""
     splits = load_video_splits(root, frames_per_sequence=TRAINING_FRAMES, validation_per_scene=1,
                                with_test=False)  # fmt: skip
     if strong_root is not None:
         strong = load_video_splits(strong_root, validation_per_scene=1, with_test=False)
         splits = {name: splits[name] + strong[name] for name in ("train", "validation")}
+    if photo_videos:
+        splits = {
+            "train": splits["train"] + photo_training_videos(photo_videos, PHOTO_VIDEO_FRAMES, 0),
+            "validation": splits["validation"]
+            + photo_training_videos(max(1, photo_videos // 2), PHOTO_VIDEO_FRAMES, 1),
+        }
     return splits
 
 
 def train_one(job: tuple) -> AblationRun:
-    """Train (or reuse) one network: job = (name, seed, root, strong root or None, config,
-    folder)."""
-    name, seed, root, strong_root, config, folder = job
-    history = train_video_deblur(training_splits(root, strong_root), folder, config,
-                                 progress=False)  # fmt: skip
+    """Train (or reuse) one network: job = (name, seed, root, strong root or None, photo
+    videos, config, folder)."""
+    name, seed, root, strong_root, photo_videos, config, folder = job
+    history = train_video_deblur(training_splits(root, strong_root, photo_videos), folder,
+                                 config, progress=False)  # fmt: skip
     return AblationRun(name, seed, Path(folder), history)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", required=True, help="the stand-in (needs sharp frames)")
-    parser.add_argument("--strong-root", required=True, help="a stand-in with longer exposure")
+    parser.add_argument("--strong-root", help="a stand-in with longer exposure")
+    parser.add_argument("--photo-videos", type=int, default=0,
+                        help="photo training videos added for the photo_mix network")
     parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
     parser.add_argument("--steps", type=int, default=1200)
     parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
@@ -84,22 +102,32 @@ def main() -> None:
     args = parser.parse_args()
     if len(args.seeds) < 2:
         parser.error("--seeds: at least two, for a paired interval")
+    if args.photo_videos < 0:
+        parser.error(f"--photo-videos must be >= 0, got {args.photo_videos}")
+    if args.strong_root is None and not args.photo_videos:
+        parser.error("give --strong-root, --photo-videos or both: something to compare with")
 
     budget = VideoTrainConfig(steps=args.steps, validate_every=100)
     if args.workers > 1:
         budget = replace(budget, threads=1)  # one thread per worker process
     parameters = parameter_count(VideoDeblurNet(budget.model))  # the same network for both
-    training = {"standin": None, "blur_range": args.strong_root}
-    jobs = [(name, seed, args.root, strong, replace(budget, seed=seed),
+    training = {"standin": (None, 0)}
+    if args.strong_root is not None:
+        training["blur_range"] = (args.strong_root, 0)
+    if args.photo_videos:
+        training["photo_mix"] = (None, args.photo_videos)
+    jobs = [(name, seed, args.root, strong, photos, replace(budget, seed=seed),
              f"{args.out}/{name}-seed{seed}")
-            for name, strong in training.items() for seed in args.seeds]  # fmt: skip
+            for name, (strong, photos) in training.items() for seed in args.seeds]  # fmt: skip
     started = time.perf_counter()
     runs = list(parallel_map(train_one, jobs, args.workers))
     print(f"{len(runs)} trainings of {args.steps} steps in {time.perf_counter() - started:.0f} s")
 
     gains = {}  # test set -> network -> seed -> gain (dB)
     for test, root in (("standin", args.root), ("strong", args.strong_root)):
-        gains[test], _ = ablation_gains(root, runs, frames_per_sequence=args.frames)
+        if root is not None:
+            gains[test], _ = ablation_gains(root, runs, frames_per_sequence=args.frames,
+                                            workers=args.workers)
     gains["photo_videos"] = {}
     for run in runs:
         rows = photo_video_gains(VideoRestorer(run.folder / "best.pt"))
@@ -118,17 +146,18 @@ def main() -> None:
             print(f"{test:13s} {name:11s} " + ", ".join(f"seed {s}: {g:+.2f} dB"
                                                         for s, g in by_seed.items()))
         rows = ablation_intervals(by_network, dict.fromkeys(by_network, parameters),
-                                  reference="standin", below="lower with the wider range",
-                                  above="higher with the wider range")  # fmt: skip
+                                  reference="standin", below="lower with the wider data",
+                                  above="higher with the wider data")  # fmt: skip
         table += [{"test_set": test, **{key: round(value, 3) if isinstance(value, float)
                                         else value for key, value in row.items()}}
                   for row in rows]  # fmt: skip
     markdown, _ = save_table(
         table, args.out, "blur_range", ("test_set", *INTERVAL_COLUMNS),
-        caption=f"Video network trained on the stand-in alone or with a longer-exposure render "
-                f"({args.steps} steps, seeds {args.seeds}): PSNR gain over the blurred input "
-                f"(dB, mean, min and max over seeds) and the paired difference to the "
-                f"stand-in-only network with its 95 % t-interval (measured).")  # fmt: skip
+        caption=f"Video network trained on the stand-in alone or with more data "
+                f"({', '.join(training)}; {args.steps} steps, seeds {args.seeds}): PSNR gain "
+                f"over the blurred input (dB, mean, min and max over seeds) and the paired "
+                f"difference to the stand-in-only network with its 95 % t-interval "
+                f"(measured).")  # fmt: skip
     print(markdown.read_text())
 
 

@@ -18,8 +18,10 @@ from blurloc.cli import main
 from blurloc.data import check_data, load_split, read_image
 from blurloc.data.frames import list_frames
 from blurloc.experiments.photo_video import (
+    PHOTO_TRAINING_PHOTOS,
     PHOTO_VIDEO_PHOTOS,
     PHOTO_VIDEO_SPEEDS,
+    photo_training_videos,
     photo_video,
     photo_video_gains,
 )
@@ -371,6 +373,25 @@ def test_photo_video_blurs_with_speed_and_the_shipped_network_does_not_make_it_w
         assert after > before - 0.1, (before, after)
     with pytest.raises(ValueError, match="RGB"):
         photo_video(photo[..., 0])
+
+
+def test_photo_training_videos_blur_photographs_the_scored_set_does_not_show() -> None:
+    assert PHOTO_TRAINING_PHOTOS and not set(PHOTO_TRAINING_PHOTOS) & set(PHOTO_VIDEO_PHOTOS)
+
+    def gradient_energy(video: np.ndarray) -> float:
+        video = video.astype(float)
+        return float(np.mean(np.diff(video, axis=1) ** 2) + np.mean(np.diff(video, axis=2) ** 2))
+
+    videos = photo_training_videos(6, frames=4, seed=0)  # camera, brick, ... coins: textured
+    assert len(videos) == 6
+    for blurred, sharp in videos:
+        assert blurred.shape == sharp.shape == (4, 120, 160, 3) and blurred.dtype == np.uint8
+        assert gradient_energy(blurred) < 0.8 * gradient_energy(sharp)  # blurred, not just noisy
+    again = photo_training_videos(2, frames=4, seed=0)
+    assert all(np.array_equal(a[0], b[0]) for a, b in zip(again, videos, strict=False))
+    assert not np.array_equal(photo_training_videos(1, frames=4, seed=1)[0][0], videos[0][0])
+    with pytest.raises(ValueError, match="count"):
+        photo_training_videos(0)
 
 
 def test_photo_video_gains_score_every_photo_and_speed_against_the_input() -> None:

@@ -10,11 +10,15 @@ import skimage.data
 
 from ..images import as_float_image, srgb_to_linear, to_uint8
 from ..metrics import mean_frame_psnr
+from .estimation import PHOTOS
 
 #: The photographs (scikit-image names) and pan speeds (px per sub-frame) of the photo-video set:
 #: 9 sub-frames per frame, so the blur spans about 4.5, 9 and 13.5 px at 160x120.
 PHOTO_VIDEO_PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "immunohistochemistry")
 PHOTO_VIDEO_SPEEDS = (0.5, 1.0, 1.5)
+#: Photographs for training videos: the other photographs of notebook 01's set, none of which the
+#: photo-video set shows.
+PHOTO_TRAINING_PHOTOS = tuple(photo for photo in PHOTOS if photo not in PHOTO_VIDEO_PHOTOS)
 
 
 def photo_video(
@@ -116,3 +120,53 @@ def photo_video_gains(restore: Callable[[np.ndarray], np.ndarray], frames: int =
             rows.append({"photo": photo, "step_px": step, "blurred_psnr_db": before,
                          "restored_psnr_db": after, "gain_db": after - before})  # fmt: skip
     return rows
+
+
+def photo_training_videos(
+    count: int, frames: int = 30, seed: int = 0, photos: tuple[str, ...] = PHOTO_TRAINING_PHOTOS
+) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Blurred videos with their sharp frames, made the GoPro way (:func:`photo_video`) from
+    photographs, for training a video deblurrer on natural image content.
+
+    Video ``i`` pans over photograph ``photos[i % len(photos)]`` after a random crop (70-100 %
+    of each side, which also sets the magnification), a random quarter turn and a random
+    mirror (gray photographs become gray RGB), at a random speed of 0.25-1.75 px per sub-frame
+    (blur of about 2-16 px at 160x120) in a random direction, with its own noise.
+
+    Parameters
+    ----------
+    count : int
+        Number of videos.
+    frames : int
+        Stored frames per video.
+    seed : int
+        Seed of the crops, turns, speeds, directions and noise.
+    photos : tuple of str
+        scikit-image photograph names (default :data:`PHOTO_TRAINING_PHOTOS`, disjoint from the
+        photo-video set that :func:`photo_video_gains` scores).
+
+    Returns
+    -------
+    list of (blurred, sharp)
+        uint8 (frames, 120, 160, 3) pairs, as :func:`blurloc.train.video.load_video_splits`
+        gives them.
+    """
+    if count < 1 or frames < 1 or not photos:
+        raise ValueError(f"count ({count}) and frames ({frames}) must be positive, photos given")
+    rng = np.random.default_rng(seed)
+    videos = []
+    for index in range(count):
+        photo = as_float_image(getattr(skimage.data, photos[index % len(photos)])())
+        if photo.ndim == 2:
+            photo = np.repeat(photo[..., None], 3, axis=2)
+        height, width = (int(side * rng.uniform(0.7, 1.0)) for side in photo.shape[:2])
+        top = rng.integers(0, photo.shape[0] - height + 1)
+        left = rng.integers(0, photo.shape[1] - width + 1)
+        photo = np.rot90(photo[top : top + height, left : left + width, :3], rng.integers(4))
+        if rng.random() < 0.5:
+            photo = photo[:, ::-1]
+        videos.append(photo_video(np.ascontiguousarray(photo), frames,
+                                  step_px=rng.uniform(0.25, 1.75),
+                                  angle_deg=rng.uniform(0.0, 360.0),
+                                  seed=int(rng.integers(2**31))))  # fmt: skip
+    return videos
