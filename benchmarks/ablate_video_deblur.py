@@ -129,28 +129,44 @@ def main() -> None:
                               workers=args.workers)  # fmt: skip
     for name, by_seed in gains.items():
         print(f"{name:20s} " + ", ".join(f"seed {s}: {g:+.2f} dB" for s, g in by_seed.items()))
-    intervals = ablation_intervals(gains, parameters, reference=runs[0].variant,
-                                   below="below the reference", above="above the reference")
+    intervals = ablation_intervals(
+        gains,
+        parameters,
+        reference=runs[0].variant,
+        below="below the reference",
+        above="above the reference",
+    )
     rows = [{key: round(value, 3) if isinstance(value, float) else value
              for key, value in row.items()} for row in intervals]  # fmt: skip
     print(f"\nsteps {args.steps}, seeds {args.seeds}, first {args.frames} frames of every test "
           f"sequence ({seconds:.0f} s of training); gains over the blurred input, dB:")  # fmt: skip
-    markdown, _ = save_table(rows, args.out, "video_ablation", INTERVAL_COLUMNS,
-                             caption="Video network variants (measured)")
+    markdown, _ = save_table(
+        rows,
+        args.out,
+        "video_ablation",
+        INTERVAL_COLUMNS,
+        caption="Video network variants (measured)",
+    )
     print(markdown.read_text())
     video = longest_test_video(args.root, args.frames)
-    print(f"per run: the step of the scored network (best validation) and the largest |hidden "
-          f"state| of the network at the end of training over {len(video)} test frames:")
+    print(
+        f"per run: the step of the scored network (best validation) and the largest |hidden "
+        f"state| of the network at the end of training over {len(video)} test frames:"
+    )
     for run in runs:
         best_step = run.history["step"][int(np.argmax(run.history["val_psnr"]))]
-        print(f"  {run.variant:20s} seed {run.seed}: best at step {best_step}, largest state "
-              f"{largest_state(run.folder / 'last.pt', video):.3g}")
+        print(
+            f"  {run.variant:20s} seed {run.seed}: best at step {best_step}, largest state "
+            f"{largest_state(run.folder / 'last.pt', video):.3g}"
+        )
     if "aligned" in variants:
         shifts = frame_shifts(args.root, args.frames)
-        print(f"frame-to-frame translation on the scored test frames ({shifts.size} pairs): "
-              f"median {np.median(shifts):.2f} px, 90th percentile "
-              f"{np.percentile(shifts, 90):.2f} px; the recurrent states move by these divided by "
-              f"the feature stride ({VARIANTS['aligned'].feature_stride})")
+        print(
+            f"frame-to-frame translation on the scored test frames ({shifts.size} pairs): "
+            f"median {np.median(shifts):.2f} px, 90th percentile "
+            f"{np.percentile(shifts, 90):.2f} px; the recurrent states move by these divided by "
+            f"the feature stride ({VARIANTS['aligned'].feature_stride})"
+        )
 
 
 if __name__ == "__main__":

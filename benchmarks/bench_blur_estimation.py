@@ -62,18 +62,24 @@ def fit(roots: list[str], budget: int | None) -> None:
     keep = (blurred | (extents < SHARP_BELOW_PX)) & (features[:, -1] == 0)  # analysis = image
     threshold = calibrate_blur_threshold(scores[keep], blurred[keep],
                                          sharp_groups=extents[keep] > 0)  # fmt: skip
-    print(f"length model fitted on {len(extents)} training examples of {', '.join(roots)} and "
-          f"{len(photo_extents)} blurred photographs, written to {LENGTH_MODEL_PATH}; detector "
-          f"threshold {threshold:.2f} px")
+    print(
+        f"length model fitted on {len(extents)} training examples of {', '.join(roots)} and "
+        f"{len(photo_extents)} blurred photographs, written to {LENGTH_MODEL_PATH}; detector "
+        f"threshold {threshold:.2f} px"
+    )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", help="stand-in root with blur.csv files")
     parser.add_argument("--split", default="test")
-    parser.add_argument("--budget", type=int, default=None,
-                        help="about how many frames of the split (with --fit: of each root's "
-                        "training split) to read (default: all)")
+    parser.add_argument(
+        "--budget",
+        type=int,
+        default=None,
+        help="about how many frames of the split (with --fit: of each root's "
+        "training split) to read (default: all)",
+    )
     parser.add_argument("--no-motion", action="store_true", help="skip the camera-motion check")
     parser.add_argument("--fit", nargs="+", metavar="ROOT", help="fit the length model instead")
     args = parser.parse_args()

@@ -59,9 +59,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--images", type=int, default=len(PHOTOS))
     parser.add_argument("--kernels", type=int, default=5, help="kernels of each kind per photo")
-    parser.add_argument("--quality-size", type=int, nargs=2, default=(640, 480),
-                        metavar=("WIDTH", "HEIGHT"),
-                        help="size of the photos in the quality part (255 255: Levin et al.'s)")
+    parser.add_argument(
+        "--quality-size",
+        type=int,
+        nargs=2,
+        default=(640, 480),
+        metavar=("WIDTH", "HEIGHT"),
+        help="size of the photos in the quality part (255 255: Levin et al.'s)",
+    )
     parser.add_argument("--repeats", type=int, default=15)
     args = parser.parse_args()
     rng = np.random.default_rng(0)
@@ -79,17 +84,21 @@ def main() -> None:
             wiener(sample8[..., c] / 255.0, kernel, 0.01) for c in range(3)
         ],
     }
-    print(f"per 640x480 RGB frame (L = 15 px at 30°, estimated {estimate.length_px:.1f} px at "
-          f"{estimate.angle_deg:.1f}°), median of {args.repeats}; load average "
-          f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores:")
+    print(
+        f"per 640x480 RGB frame (L = 15 px at 30°, estimated {estimate.length_px:.1f} px at "
+        f"{estimate.angle_deg:.1f}°), median of {args.repeats}; load average "
+        f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores:"
+    )
     for label, call in timings.items():
         print(f"  {label:30s} {median_ms(call, args.repeats):6.1f} ms")
     print("  (target for blind deblurring: <= 30 ms on 2 cores)")
 
     size = tuple(args.quality_size)
-    print(f"non-blind, σ = 0.01, gray {size[0]}x{size[1]}, {args.images} photos x "
-          f"{args.kernels} kernels of each kind; PSNR dB (mean) and blurloc minus "
-          "scikit-image's best balance (mean, 95 % bootstrap interval over the trials):")
+    print(
+        f"non-blind, σ = 0.01, gray {size[0]}x{size[1]}, {args.images} photos x "
+        f"{args.kernels} kernels of each kind; PSNR dB (mean) and blurloc minus "
+        "scikit-image's best balance (mean, 95 % bootstrap interval over the trials):"
+    )
     photos = [frame(name, size).mean(axis=2) for name in PHOTOS[: args.images]]
     for kind, ((low, high), label) in KERNEL_KINDS.items():
         rows = skimage_comparison(photos, [kind], args.kernels, rng, unsupervised=True)
@@ -97,13 +106,15 @@ def main() -> None:
         gain, padded = (paired_interval(np.array([r["ours_db"] - r[key] for r in rows]))
                         for key in ("skimage_best_balance_db", "skimage_padded_db"))  # fmt: skip
         ahead = np.mean([r["ours_db"] > r["skimage_best_balance_db"] for r in rows])
-        print(f"  {label}, {low:.0f}-{high:.0f} px: blurred {mean['blurred_db']:.2f}, blurloc "
-              f"{mean['ours_db']:.2f}, skimage best balance {mean['skimage_best_balance_db']:.2f} "
-              f"(mirror-padded like blurloc: {mean['skimage_padded_db']:.2f}), unsupervised "
-              f"{mean['unsupervised_db']:.2f}; gain {gain.mean:+.2f} dB [{gain.low:+.2f}, "
-              f"{gain.high:+.2f}], {ahead:.0%} of trials ahead (target: >= +1 dB); over the "
-              f"mirror-padded skimage {padded.mean:+.2f} dB [{padded.low:+.2f}, "
-              f"{padded.high:+.2f}]")
+        print(
+            f"  {label}, {low:.0f}-{high:.0f} px: blurred {mean['blurred_db']:.2f}, blurloc "
+            f"{mean['ours_db']:.2f}, skimage best balance {mean['skimage_best_balance_db']:.2f} "
+            f"(mirror-padded like blurloc: {mean['skimage_padded_db']:.2f}), unsupervised "
+            f"{mean['unsupervised_db']:.2f}; gain {gain.mean:+.2f} dB [{gain.low:+.2f}, "
+            f"{gain.high:+.2f}], {ahead:.0%} of trials ahead (target: >= +1 dB); over the "
+            f"mirror-padded skimage {padded.mean:+.2f} dB [{padded.low:+.2f}, "
+            f"{padded.high:+.2f}]"
+        )
 
 
 if __name__ == "__main__":

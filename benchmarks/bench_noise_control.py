@@ -80,28 +80,38 @@ def main() -> None:
             control_frames += scores["control"]
     table, control = np.array(blurred_frames), np.array(control_frames)
     print(f"shipped network, {len(table)} test frames, mean PSNR (dB) against the sharp renders:")
-    for name, values in (("blurred", table[:, 1]), ("blurred, restored", table[:, 2]),
-                         ("noisy sharp", control[:, 0]), ("noisy sharp, restored", control[:, 1])):
+    for name, values in (
+        ("blurred", table[:, 1]),
+        ("blurred, restored", table[:, 2]),
+        ("noisy sharp", control[:, 0]),
+        ("noisy sharp, restored", control[:, 1]),
+    ):
         print(f"  {name:<24} {values.mean():6.2f}")
     print(f"  gain on blurred frames     {(table[:, 2] - table[:, 1]).mean():+.2f} dB")
     print(f"  gain on noise only         {(control[:, 1] - control[:, 0]).mean():+.2f} dB")
     removed = mse_removed(control)
-    print("\nblurred frames by recorded blur extent (mean px over the exposure, blur.csv): share "
-          "of the frames, mean PSNR (dB) blurred -> restored, mean gain with a 95 % bootstrap "
-          "interval over the frames (frames of one sequence are not independent: a lower bound "
-          "on the width), and the squared error removed (8-bit units^2, mean over the frames)")
+    print(
+        "\nblurred frames by recorded blur extent (mean px over the exposure, blur.csv): share "
+        "of the frames, mean PSNR (dB) blurred -> restored, mean gain with a 95 % bootstrap "
+        "interval over the frames (frames of one sequence are not independent: a lower bound "
+        "on the width), and the squared error removed (8-bit units^2, mean over the frames)"
+    )
     for low, high in itertools.pairwise(EXTENT_BINS_PX):
         inside = table[(table[:, 0] >= low) & (table[:, 0] < high)]
         if len(inside) < 2:
             print(f"  {low:4.0f}-{high:<4.0f} px  {len(inside)} frames: left out")
             continue
         gain = paired_interval(inside[:, 2] - inside[:, 1])
-        print(f"  {low:4.0f}-{high:<4.0f} px  {len(inside) / len(table):6.1%}  "
-              f"{inside[:, 1].mean():6.2f} -> {inside[:, 2].mean():6.2f}  "
-              f"{gain.mean:+.2f} dB [{gain.low:+.2f}, {gain.high:+.2f}]  "
-              f"MSE removed {mse_removed(inside[:, 1:]).mean():6.2f}")
-    print(f"  noise-only control: MSE removed {removed.mean():6.2f} (what denoising alone "
-          "removes; a blur bin removing more is also deblurring)")
+        print(
+            f"  {low:4.0f}-{high:<4.0f} px  {len(inside) / len(table):6.1%}  "
+            f"{inside[:, 1].mean():6.2f} -> {inside[:, 2].mean():6.2f}  "
+            f"{gain.mean:+.2f} dB [{gain.low:+.2f}, {gain.high:+.2f}]  "
+            f"MSE removed {mse_removed(inside[:, 1:]).mean():6.2f}"
+        )
+    print(
+        f"  noise-only control: MSE removed {removed.mean():6.2f} (what denoising alone "
+        "removes; a blur bin removing more is also deblurring)"
+    )
     print_bands(bands)
 
 
@@ -109,20 +119,28 @@ def print_bands(bands: np.ndarray) -> None:
     """Print the squared error by frequency band: (4, K) sums of the blurred input, its
     restoration, the control's input and its restoration (rows of ``bands``)."""
     blurred_in, blurred_out, control_in, control_out = bands
-    print("\nsquared error by spatial frequency (cycles per pixel; all frames and channels, "
-          "Parseval): the blurred input's share per band, the part of it that the noise alone "
-          "makes (the control's input error over the blurred input's), and the share of each "
-          "band's error the network removes, on blurred frames and on the noise-only control")
+    print(
+        "\nsquared error by spatial frequency (cycles per pixel; all frames and channels, "
+        "Parseval): the blurred input's share per band, the part of it that the noise alone "
+        "makes (the control's input error over the blurred input's), and the share of each "
+        "band's error the network removes, on blurred frames and on the noise-only control"
+    )
     print("  band            share   noise part   removed (blurred)   removed (noise only)")
     for k, (low, high) in enumerate(itertools.pairwise(FREQUENCY_BAND_EDGES)):
         label = f"{low:.3f}-{high:.3f}" if np.isfinite(high) else f">= {low:.3f}"
-        print(f"  {label:<14} {blurred_in[k] / blurred_in.sum():6.1%}   "
-              f"{control_in[k] / blurred_in[k]:9.1%}   {1 - blurred_out[k] / blurred_in[k]:16.1%}"
-              f"   {1 - control_out[k] / control_in[k]:19.1%}")
-    for name, before, after in (("blurred", blurred_in, blurred_out),
-                                ("noise only", control_in, control_out)):
-        print(f"  all bands, {name}: {10 * np.log10(before.sum() / after.sum()):+.2f} dB (MSE of "
-              "all frames together)")
+        print(
+            f"  {label:<14} {blurred_in[k] / blurred_in.sum():6.1%}   "
+            f"{control_in[k] / blurred_in[k]:9.1%}   {1 - blurred_out[k] / blurred_in[k]:16.1%}"
+            f"   {1 - control_out[k] / control_in[k]:19.1%}"
+        )
+    for name, before, after in (
+        ("blurred", blurred_in, blurred_out),
+        ("noise only", control_in, control_out),
+    ):
+        print(
+            f"  all bands, {name}: {10 * np.log10(before.sum() / after.sum()):+.2f} dB (MSE of "
+            "all frames together)"
+        )
 
 
 if __name__ == "__main__":

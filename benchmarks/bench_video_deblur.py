@@ -44,16 +44,22 @@ def main() -> None:
     single = VideoDeblurNet(VideoDeblurConfig(aux_state=False, blending=False, recurrent=False))
     for name, model in (("full network (checkpoint)", full), ("single-frame baseline", single)):
         fps = frames_per_second(model, video)
-        print(f"{name}: {parameter_count(model):,} parameters, {fps:.1f} frames/s at 160x120 "
-              f"on {args.threads} threads (target >= 25)")
+        print(
+            f"{name}: {parameter_count(model):,} parameters, {fps:.1f} frames/s at 160x120 "
+            f"on {args.threads} threads (target >= 25)"
+        )
     rows = photo_video_gains(lambda blurred: restore_sequence(full, blurred))
     for row in rows:
-        print(f"photo video {row['photo']}, {row['step_px']} px per sub-frame: "
-              f"{row['blurred_psnr_db']:.2f} dB -> {row['restored_psnr_db']:.2f} dB "
-              f"({row['gain_db']:+.2f})")
+        print(
+            f"photo video {row['photo']}, {row['step_px']} px per sub-frame: "
+            f"{row['blurred_psnr_db']:.2f} dB -> {row['restored_psnr_db']:.2f} dB "
+            f"({row['gain_db']:+.2f})"
+        )
     gains = [row["gain_db"] for row in rows]
-    print(f"photo videos: gain min {min(gains):+.2f} dB, mean {np.mean(gains):+.2f} dB "
-          f"(must not be worse than the input)")
+    print(
+        f"photo videos: gain min {min(gains):+.2f} dB, mean {np.mean(gains):+.2f} dB "
+        f"(must not be worse than the input)"
+    )
 
 
 if __name__ == "__main__":

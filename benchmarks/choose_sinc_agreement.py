@@ -49,10 +49,15 @@ def main() -> None:
     extents = np.array([extent for _, extent in frames])
     rows = []
     for band in BANDS:
-        lengths = np.array([estimate_motion_blur(image, features=found, agreement=band).length_px
-                            for (image, _), found in zip(frames, frame_features, strict=True)])
-        trials = estimation_trials(crops, PHOTO_LENGTHS_PX, PHOTO_SIGMAS, seed=13,
-                                   agreement=band)  # the same crops, blur and noise per band
+        lengths = np.array(
+            [
+                estimate_motion_blur(image, features=found, agreement=band).length_px
+                for (image, _), found in zip(frames, frame_features, strict=True)
+            ]
+        )
+        trials = estimation_trials(
+            crops, PHOTO_LENGTHS_PX, PHOTO_SIGMAS, seed=13, agreement=band
+        )  # the same crops, blur and noise per band
         rows.append({
             "band": f"{band[0]:g}-{band[1]:g}",
             "render_spearman": round(float(spearmanr(lengths, extents).statistic), 3),

@@ -92,8 +92,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", required=True, help="the stand-in (needs sharp frames)")
     parser.add_argument("--strong-root", help="a stand-in with longer exposure")
-    parser.add_argument("--photo-videos", type=int, default=0,
-                        help="photo training videos added for the photo_mix network")
+    parser.add_argument(
+        "--photo-videos",
+        type=int,
+        default=0,
+        help="photo training videos added for the photo_mix network",
+    )
     parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
     parser.add_argument("--steps", type=int, default=1200)
     parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
@@ -126,8 +130,9 @@ def main() -> None:
     gains = {}  # test set -> network -> seed -> gain (dB)
     for test, root in (("standin", args.root), ("strong", args.strong_root)):
         if root is not None:
-            gains[test], _ = ablation_gains(root, runs, frames_per_sequence=args.frames,
-                                            workers=args.workers)
+            gains[test], _ = ablation_gains(
+                root, runs, frames_per_sequence=args.frames, workers=args.workers
+            )
     gains["photo_videos"] = {}
     for run in runs:
         rows = photo_video_gains(VideoRestorer(run.folder / "best.pt"))
@@ -136,15 +141,19 @@ def main() -> None:
         worst = min(rows, key=lambda row: row["gain_db"])
         by_speed = {step: np.mean([r["gain_db"] for r in rows if r["step_px"] == step])
                     for step in sorted({r["step_px"] for r in rows})}  # fmt: skip
-        print(f"{run.variant} seed {run.seed}: photo videos mean {mean:+.2f} dB, lowest "
-              f"{worst['gain_db']:+.2f} dB ({worst['photo']}, {worst['step_px']} px); by speed "
-              + ", ".join(f"{step} px: {gain:+.2f}" for step, gain in by_speed.items()))
+        print(
+            f"{run.variant} seed {run.seed}: photo videos mean {mean:+.2f} dB, lowest "
+            f"{worst['gain_db']:+.2f} dB ({worst['photo']}, {worst['step_px']} px); by speed "
+            + ", ".join(f"{step} px: {gain:+.2f}" for step, gain in by_speed.items())
+        )
 
     table = []
     for test, by_network in gains.items():
         for name, by_seed in by_network.items():
-            print(f"{test:13s} {name:11s} " + ", ".join(f"seed {s}: {g:+.2f} dB"
-                                                        for s, g in by_seed.items()))
+            print(
+                f"{test:13s} {name:11s} "
+                + ", ".join(f"seed {s}: {g:+.2f} dB" for s, g in by_seed.items())
+            )
         rows = ablation_intervals(by_network, dict.fromkeys(by_network, parameters),
                                   reference="standin", below="lower with the wider data",
                                   above="higher with the wider data")  # fmt: skip

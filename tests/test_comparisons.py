@@ -16,17 +16,26 @@ def rows(effect: float, noise: float = 0.01, seeds: int = 5) -> list[dict]:
     for s, scene in enumerate(("chess", "fire", "heads")):
         for seed in range(seeds):
             base = 0.2 + 0.3 * s + 0.05 * rng.standard_normal()
-            out.append({"scene": scene, "seed": seed, "condition": "blurred", "head": "lstm",
-                        "err": base})
-            out.append({"scene": scene, "seed": seed, "condition": "rnn", "head": "lstm",
-                        "err": base + effect + noise * rng.standard_normal()})
+            out.append(
+                {"scene": scene, "seed": seed, "condition": "blurred", "head": "lstm", "err": base}
+            )
+            out.append(
+                {
+                    "scene": scene,
+                    "seed": seed,
+                    "condition": "rnn",
+                    "head": "lstm",
+                    "err": base + effect + noise * rng.standard_normal(),
+                }
+            )
     out.append({"scene": "chess", "seed": 0, "condition": "rnn", "head": "none", "err": 9.0})
     return out
 
 
 def test_pairs_match_scene_and_seed_and_filter_rows() -> None:
-    a, b, keys = paired_differences(rows(-0.05), "err", "condition", "blurred", "rnn",
-                                    where={"head": "lstm"})
+    a, b, keys = paired_differences(
+        rows(-0.05), "err", "condition", "blurred", "rnn", where={"head": "lstm"}
+    )
     assert len(keys) == 15 and keys[0] == ("chess", 0)
     np.testing.assert_allclose(b - a, -0.05, atol=0.05)
 
@@ -39,8 +48,9 @@ def test_a_real_effect_is_reproduced_and_its_opposite_contradicted() -> None:
 
 
 def test_no_effect_is_unresolved_despite_large_scene_differences() -> None:
-    table = comparison_table(rows(0.0, noise=0.02), [("blurred", "rnn")], ("err",),
-                             where={"head": "lstm"})
+    table = comparison_table(
+        rows(0.0, noise=0.02), [("blurred", "rnn")], ("err",), where={"head": "lstm"}
+    )
     assert table[0]["verdict"].startswith("too small to resolve")
     assert table[0]["ci_high"] - table[0]["ci_low"] < 0.05  # pairing removed the scene spread
 

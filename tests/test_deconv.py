@@ -116,8 +116,11 @@ def test_band_squared_error_splits_the_error_by_frequency() -> None:
         np.sum((noisy[0].astype(float) - sharp[0]) ** 2))  # fmt: skip
     columns = np.arange(160)[None, :, None]
     zero = np.zeros((120, 160, 1))
-    for error, band in ((zero + 7.0, 0), (np.cos(2 * np.pi * columns / 8) + zero, 3),
-                        ((-1.0) ** (np.arange(120)[:, None, None] + columns) + zero, 4)):
+    for error, band in (
+        (zero + 7.0, 0),
+        (np.cos(2 * np.pi * columns / 8) + zero, 3),
+        ((-1.0) ** (np.arange(120)[:, None, None] + columns) + zero, 4),
+    ):
         split = band_squared_error(zero, error)
         assert split[band] == pytest.approx(split.sum())  # fmt: skip
 
@@ -184,8 +187,10 @@ def test_bad_input_is_refused(call, message: str) -> None:
 def test_accuracy_by_noise_summarises_each_level_in_order() -> None:
     from blurloc.experiments.estimation import accuracy_by_noise
 
-    trials = [{"noise_sigma": s, "angle_error_deg": a, "length_error_px": e}
-              for s, a, e in ((0.0, 1.0, 0.5), (0.01, 5.0, 3.0), (0.0, 3.0, 0.2))]
+    trials = [
+        {"noise_sigma": s, "angle_error_deg": a, "length_error_px": e}
+        for s, a, e in ((0.0, 1.0, 0.5), (0.01, 5.0, 3.0), (0.0, 3.0, 0.2))
+    ]
     rows = accuracy_by_noise(trials)
     assert [r["noise_sigma"] for r in rows] == [0.0, 0.01]
     assert rows[0]["trials"] == 2 and rows[0]["angle_median_deg"] == 2.0
@@ -195,10 +200,16 @@ def test_accuracy_by_noise_summarises_each_level_in_order() -> None:
 def test_per_scene_table_means_scenes_and_sets_paper_values_beside() -> None:
     from blurloc.experiments.deblurring import paper_fig6_7, per_scene_table
 
-    rows = [{"method": m, "scene": s, "psnr_db": p, "ssim": 0.5}
-            for m, s, p in (("blurred", "chess", 30.0), ("blurred", "chess", 32.0),
-                            ("blurred", "fire", 20.0), ("wiener", "chess", 25.0),
-                            ("wiener", "fire", 21.0))]
+    rows = [
+        {"method": m, "scene": s, "psnr_db": p, "ssim": 0.5}
+        for m, s, p in (
+            ("blurred", "chess", 30.0),
+            ("blurred", "chess", 32.0),
+            ("blurred", "fire", 20.0),
+            ("wiener", "chess", 25.0),
+            ("wiener", "fire", 21.0),
+        )
+    ]
     table = per_scene_table(rows)
     assert [r["scene"] for r in table] == ["chess", "fire", "mean"]
     assert table[0]["blurred_psnr_db"] == 31.0 and table[2]["blurred_psnr_db"] == 25.5

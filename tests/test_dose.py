@@ -57,13 +57,24 @@ def test_every_strength_is_rendered_with_the_same_seed_and_trained_on_both_input
 
     monkeypatch.setattr(dose, "synthesize", fake_synthesize)
     monkeypatch.setattr(dose, "write_deblurred_root", lambda root, out, method, workers: Path(out))
-    monkeypatch.setattr(dose, "blur_at_input", lambda root, config: {
-        "frame_median_px": 1.0, "input_median_px": 0.5})
+    monkeypatch.setattr(
+        dose, "blur_at_input", lambda root, config: {"frame_median_px": 1.0, "input_median_px": 0.5}
+    )
     monkeypatch.setattr(dose, "run_pose_matrix", fake_matrix)
-    rows = blur_dose_response(tmp_path, ["chess"], (0.0, 4.4), SynthConfig.quick(),
-                              PoseTrainConfig(), lambda f: f, seeds=(1, 2), seed=7)
-    assert [c for c in calls if c[0] == "render"] == [("render", "blur-0", 0.0, 7),
-                                                      ("render", "blur-4.4", 4.4, 7)]
+    rows = blur_dose_response(
+        tmp_path,
+        ["chess"],
+        (0.0, 4.4),
+        SynthConfig.quick(),
+        PoseTrainConfig(),
+        lambda f: f,
+        seeds=(1, 2),
+        seed=7,
+    )
+    assert [c for c in calls if c[0] == "render"] == [
+        ("render", "blur-0", 0.0, 7),
+        ("render", "blur-4.4", 4.4, 7),
+    ]
     assert all(c[1:] == (["blurred", "rnn"], [("blurred", "lstm"), ("rnn", "lstm")], (1, 2))
                for c in calls if c[0] == "train")  # fmt: skip
     assert len(rows) == 8 and {r["blur_strength"] for r in rows} == {0.0, 4.4}

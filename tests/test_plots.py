@@ -283,8 +283,10 @@ def test_nsr_curve_marks_the_estimate_and_the_blurred_input() -> None:
 
 
 def test_oracle_gains_draw_bars_and_frame_scatters() -> None:
-    summary = [{"variant": v, "gain_db": g, "gain_ci95_db": 0.3, "frames": 4}
-               for v, g in (("blurred", 0.0), ("blind", -1.2), ("path_linear_best", 0.8))]
+    summary = [
+        {"variant": v, "gain_db": g, "gain_ci95_db": 0.3, "frames": 4}
+        for v, g in (("blurred", 0.0), ("blind", -1.2), ("path_linear_best", 0.8))
+    ]
     points = {"blind": (np.array([1.0, 5.0]), np.array([-2.0, 0.5])),
               "path_linear_best": (np.array([1.0, 5.0]), np.array([-0.5, 2.0]))}  # fmt: skip
     figure = plots.plot_oracle_gains(summary, points)

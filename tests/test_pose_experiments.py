@@ -129,7 +129,8 @@ def test_pose_matrix_rows(
     ]
     assert len({id(t[6]) for t in trained}) == 1  # one frame cache for all the scene's runs
     assert [(r["condition"], r["head"], r["seed"]) for r in summaries] == [
-        (c, h, seed) for c, h in runs for seed in (3, 7)]
+        (c, h, seed) for c, h in runs for seed in (3, 7)
+    ]
     row = summaries[0]
     assert row["scene"] == "chess" and row["train_seconds"] == 12.3
     assert row["frames"] == count
@@ -178,14 +179,17 @@ def test_seeds_are_averaged_per_scene_and_their_spread_reported() -> None:
             _summary("fire", "blurred", "lstm", 5.0, seed=1)]  # fmt: skip
     # chess: seeds 1.0 and 3.0 -> 2.0; fire: 3.0 and 5.0 -> 4.0 (times 0.1 m)
     assert per_scene(rows, "blurred", "lstm", "position_m_median") == pytest.approx(
-        {"chess": 0.2, "fire": 0.4})
+        {"chess": 0.2, "fire": 0.4}
+    )
     # the scene mean per seed: 0.2 (seed 0), 0.4 (seed 1): spread 0.1414
     assert seed_spread(rows, "blurred", "lstm", "position_m_median") == pytest.approx(
-        np.std([0.2, 0.4], ddof=1))
+        np.std([0.2, 0.4], ddof=1)
+    )
     assert seed_spread(SUMMARIES, "blurred", "lstm", "position_m_median") == 0.0
     as_text = [{k: str(v) for k, v in r.items()} for r in rows]  # as read back from CSV
     assert per_scene(as_text, "blurred", "lstm", "position_m_median") == pytest.approx(
-        {"chess": 0.2, "fire": 0.4})
+        {"chess": 0.2, "fire": 0.4}
+    )
 
 
 def test_pose_overview_averages_scenes_and_ends_with_the_baseline() -> None:
@@ -253,7 +257,8 @@ def test_matrix_in_two_processes_matches_the_serial_run(quick_root: Path, tmp_pa
     (serial, serial_frames), (parallel, parallel_frames) = matrix[1], matrix[2]
     drop = {"train_seconds"}
     assert [{k: v for k, v in r.items() if k not in drop} for r in parallel] == [
-        {k: v for k, v in r.items() if k not in drop} for r in serial]
+        {k: v for k, v in r.items() if k not in drop} for r in serial
+    ]
     assert parallel_frames == serial_frames
     with pytest.raises(ValueError, match="workers"):
         run_pose_matrix({"blurred": quick_root}, ["chess"], runs, config, tmp_path, workers=0)

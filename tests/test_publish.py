@@ -28,7 +28,11 @@ EXECUTED = {"cells": [_cell("markdown", "# Title"),
 def test_the_published_copy_is_the_current_notebook_with_the_runs_outputs() -> None:
     published = published_copy(SOURCE, EXECUTED, "demo")
     assert [c["source"] for c in published["cells"]] == [
-        "# Title, edited since the run", "quick = False", "quick = True", "print(1)"]
+        "# Title, edited since the run",
+        "quick = False",
+        "quick = True",
+        "print(1)",
+    ]
     assert published["cells"][3]["outputs"] == [{"text": "1"}]
     assert code_sources(published) == code_sources(SOURCE) == ["quick = False", "print(1)"]
     assert SOURCE["cells"][2]["outputs"] == []  # the source is not modified

@@ -119,8 +119,15 @@ def test_median_error_views_on_real_data_show_the_nearest_training_frame(
     np.testing.assert_array_equal(views["ground truth"], views["input (blurred)"])
 
 
-def _row(item: str, metric: str, scene: str, measured: float | str, ratio: float | str,
-         method: str = "Proposed", printed: float = 1.0) -> dict:
+def _row(
+    item: str,
+    metric: str,
+    scene: str,
+    measured: float | str,
+    ratio: float | str,
+    method: str = "Proposed",
+    printed: float = 1.0,
+) -> dict:
     return {"item": item, "metric": metric, "scene": scene, "method": method,
             "measured": measured, "ratio": ratio, "printed": printed}  # fmt: skip
 

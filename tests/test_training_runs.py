@@ -224,7 +224,6 @@ def test_a_pose_epoch_is_a_fixed_number_of_windows(
         replace(TINY, windows_per_epoch=0)
 
 
-
 def test_parallel_map_keeps_the_order_in_worker_processes() -> None:
     """Results come back in the order of the jobs, from two spawned processes as from one."""
     from blurloc.train.loop import parallel_map

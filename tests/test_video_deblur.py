@@ -110,8 +110,9 @@ def test_state_carries_across_chunks() -> None:
 def test_bounded_state_stays_bounded_where_an_expansive_recurrence_blows_up() -> None:
     torch.manual_seed(2)
     frames = torch.rand(1, 60, 3, 16, 16) * 2 - 1
-    unbounded = VideoDeblurNet(VideoDeblurConfig(channels=8, hidden=4, blocks=1,
-                                                 bounded_state=False))
+    unbounded = VideoDeblurNet(
+        VideoDeblurConfig(channels=8, hidden=4, blocks=1, bounded_state=False)
+    )
     with torch.no_grad():
         for parameter in unbounded.parameters():
             parameter.mul_(4.0)  # an expansive recurrence, as a training-loss spike can leave
@@ -231,7 +232,7 @@ def test_validation_parts_are_the_ends_of_whole_training_sequences(
     assert [len(blurred) for blurred, _ in splits["train"]] == [3, 3]
     assert [len(blurred) for blurred, _ in splits["test"]] == [3]
     # validation: the end of the whole sequence, not of the 3 frames trained on
-    end = first_train.frame_ids[whole - validation_cut(whole):]
+    end = first_train.frame_ids[whole - validation_cut(whole) :]
     blurred, sharp = splits["validation"][0]
     np.testing.assert_array_equal(blurred, first_train.images("color", end))
     np.testing.assert_array_equal(sharp, first_train.images("sharp", end))
@@ -300,8 +301,16 @@ def test_cli_deblur_video_bad_input(tmp_path: Path, capsys: pytest.CaptureFixtur
         (["deblur-video", str(tmp_path / "one"), str(tmp_path / "o")], "one frame only"),
         (["deblur-video", str(tmp_path / "empty"), str(tmp_path / "o")], "no frames"),
         (["deblur-video", str(tmp_path / "nowhere"), str(tmp_path / "o")], "no such folder"),
-        (["deblur-video", str(tmp_path / "one"), str(tmp_path / "o"), "--checkpoint",
-          str(tmp_path / "bad.pt")], "bad.pt"),
+        (
+            [
+                "deblur-video",
+                str(tmp_path / "one"),
+                str(tmp_path / "o"),
+                "--checkpoint",
+                str(tmp_path / "bad.pt"),
+            ],
+            "bad.pt",
+        ),
     ]
     for argv, message in cases:
         assert main(argv) == 1, argv

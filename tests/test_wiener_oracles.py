@@ -53,7 +53,11 @@ def test_skimage_comparison_scores_both_filters_and_the_oracle_nsr() -> None:
     rows = skimage_comparison(crops, ["line", "camera shake"], 1, np.random.default_rng(0),
                               oracle_nsr=True)  # fmt: skip
     assert [(r["image"], r["kernel"]) for r in rows] == [
-        (0, "line"), (0, "camera shake"), (1, "line"), (1, "camera shake")]
+        (0, "line"),
+        (0, "camera shake"),
+        (1, "line"),
+        (1, "camera shake"),
+    ]
     for row in rows:  # textured photographs: Wiener deblurs; the oracle is at least as good
         assert row["ours_db"] > row["blurred_db"] + 1.0
         assert np.isfinite(row["skimage_best_balance_db"]) and np.isfinite(row["skimage_padded_db"])
@@ -103,7 +107,8 @@ def test_oracle_rows_and_tables(quick_root: Path) -> None:
     assert [r["scene"] for r in table] == ["chess", "stairs", "mean"]
     assert table[0]["paper_psnr_db"] == pytest.approx(29.76)
     assert table[-1]["blurred_psnr_db"] == pytest.approx(
-        np.mean([table[0]["blurred_psnr_db"], table[1]["blurred_psnr_db"]]), abs=1e-3)
+        np.mean([table[0]["blurred_psnr_db"], table[1]["blurred_psnr_db"]]), abs=1e-3
+    )
 
 
 def test_estimation_rows_against_recorded_blur(quick_root: Path) -> None:

@@ -74,8 +74,18 @@ def _blur_estimate(args: argparse.Namespace) -> int:
     for name in args.images:
         image = read_image(name)
         if min(image.shape[:2]) < MIN_ANALYSIS_SIDE:  # readable, but nothing to measure: null
-            print(json.dumps({"path": name, "blurred": None, "score": None, "length_px": None,
-                              "angle_deg": None, "note": f"smaller than {MIN_ANALYSIS_SIDE} px"}))
+            print(
+                json.dumps(
+                    {
+                        "path": name,
+                        "blurred": None,
+                        "score": None,
+                        "length_px": None,
+                        "angle_deg": None,
+                        "note": f"smaller than {MIN_ANALYSIS_SIDE} px",
+                    }
+                )
+            )
             continue
         try:
             blurred, score = detect_blur(image)
@@ -196,14 +206,24 @@ def _train_video_deblur(args: argparse.Namespace) -> int:
     from .train.video import load_video_splits, train_video_deblur
 
     config = VideoTrainConfig(seed=args.seed, device=args.device)
-    config = replace(config, **{k: v for k, v in {"steps": args.steps, "batch": args.batch,
-                                                  "crop": args.crop}.items() if v is not None})
+    config = replace(
+        config,
+        **{
+            k: v
+            for k, v in {"steps": args.steps, "batch": args.batch, "crop": args.crop}.items()
+            if v is not None
+        },
+    )
     choose_device(config.device)  # a bad --device is named before the frames are read
     if args.validation_per_scene < 0:
         raise ValueError(f"--validation-per-scene must be >= 0 (0: all), got "
                          f"{args.validation_per_scene}")  # fmt: skip
-    splits = load_video_splits(args.data, args.scenes, with_test=False,
-                               validation_per_scene=args.validation_per_scene or None)
+    splits = load_video_splits(
+        args.data,
+        args.scenes,
+        with_test=False,
+        validation_per_scene=args.validation_per_scene or None,
+    )
     history = train_video_deblur(splits, args.out, config, progress=not args.quiet,
                                  restart=args.restart)  # fmt: skip
     print(json.dumps({"checkpoint": str(Path(args.out) / "best.pt"),
@@ -359,13 +379,20 @@ def build_parser() -> argparse.ArgumentParser:
     train.add_argument("--steps", type=int, help="optimiser steps (default 1200)")
     train.add_argument("--batch", type=int, help="clips per step (default 8)")
     train.add_argument("--crop", type=int, help="crop size in px (default 64)")
-    train.add_argument("--validation-per-scene", type=int, default=1,
-                       help="validate on the last 15 %% of that many training sequences per "
-                            "scene (default 1; 0: all)")
+    train.add_argument(
+        "--validation-per-scene",
+        type=int,
+        default=1,
+        help="validate on the last 15 %% of that many training sequences per "
+        "scene (default 1; 0: all)",
+    )
     train.add_argument("--seed", type=int, default=DEFAULT_SEED)
     train.add_argument("--device", default="auto", help="auto (CUDA when present), cpu, cuda")
-    train.add_argument("--restart", action="store_true",
-                       help="start afresh, replacing a run with other settings in --out")
+    train.add_argument(
+        "--restart",
+        action="store_true",
+        help="start afresh, replacing a run with other settings in --out",
+    )
     train.add_argument("--quiet", action="store_true", help="no progress bar")
     train.set_defaults(handler=_train_video_deblur)
 
@@ -381,24 +408,37 @@ def build_parser() -> argparse.ArgumentParser:
     pose.add_argument("--data", required=True, help="7-Scenes-layout root")
     pose.add_argument("--scene", required=True)
     pose.add_argument("--out", required=True, help="folder for best.pt, last.pt, history.json")
-    pose.add_argument("--input", choices=("blurred", "wiener", "rnn", "sharp"), default="blurred",
-                      help="frames to train on (wiener/rnn: deblurred copies from notebook 03)")
+    pose.add_argument(
+        "--input",
+        choices=("blurred", "wiener", "rnn", "sharp"),
+        default="blurred",
+        help="frames to train on (wiener/rnn: deblurred copies from notebook 03)",
+    )
     pose.add_argument("--head", choices=("lstm", "bilstm", "gru", "none"), default="lstm")
     pose.add_argument("--encoder", choices=("small", "resnet18", "resnet34"), default="small")
     pose.add_argument("--epochs", type=int)
-    pose.add_argument("--windows-per-epoch", type=int,
-                      help="windows drawn per epoch (0: every window once; default 512)")
+    pose.add_argument(
+        "--windows-per-epoch",
+        type=int,
+        help="windows drawn per epoch (0: every window once; default 512)",
+    )
     pose.add_argument("--resize", type=int, help="short side in px (paper: 256)")
     pose.add_argument("--crop", type=int, help="square crop in px (paper: 224)")
     pose.add_argument("--lr", type=float)
     pose.add_argument("--batch", type=int)
     pose.add_argument("--window", type=int, help="frames per training sequence")
-    pose.add_argument("--learned-weighting", action="store_true",
-                      help="learnable s_x, s_q loss weights instead of eq. 14's beta")
+    pose.add_argument(
+        "--learned-weighting",
+        action="store_true",
+        help="learnable s_x, s_q loss weights instead of eq. 14's beta",
+    )
     pose.add_argument("--seed", type=int, default=DEFAULT_SEED)
     pose.add_argument("--device", default="auto")
-    pose.add_argument("--restart", action="store_true",
-                      help="start afresh, replacing a run with other settings in --out")
+    pose.add_argument(
+        "--restart",
+        action="store_true",
+        help="start afresh, replacing a run with other settings in --out",
+    )
     pose.add_argument("--quiet", action="store_true", help="no progress bar")
     pose.set_defaults(handler=_train_pose)
 
@@ -412,8 +452,12 @@ def build_parser() -> argparse.ArgumentParser:
     error = commands.add_parser("pose-error", help="errors between two trajectories (JSON)")
     error.add_argument("ground_truth", help="TUM file or 7-Scenes sequence folder")
     error.add_argument("estimate", help="TUM file or 7-Scenes sequence folder")
-    error.add_argument("--max-difference", type=float, default=0.01,
-                       help="largest stamp difference of a matched pair (seconds, > 0)")
+    error.add_argument(
+        "--max-difference",
+        type=float,
+        default=0.01,
+        help="largest stamp difference of a matched pair (seconds, > 0)",
+    )
     error.set_defaults(handler=_pose_error)
 
     run = commands.add_parser("run-notebooks", help="run the notebooks in order with papermill")

@@ -219,7 +219,7 @@ def _groups(item: str | None = None) -> dict[tuple[str, str, str, str], dict[str
 def _rounding(value: float) -> float:
     """Half a unit in the last printed decimal of ``value`` (10.4 -> 0.05, 7.78 -> 0.005)."""
     decimals = len(repr(float(value)).split(".")[1].rstrip("0")) if "." in repr(value) else 0
-    return 0.5 * 10.0 ** -decimals
+    return 0.5 * 10.0**-decimals
 
 
 def average_errata() -> list[dict]:
@@ -338,8 +338,11 @@ def printing_notes() -> list[dict]:
     """
     scenes: dict[tuple[str, str, str, str], list[str]] = defaultdict(list)
     for row in reported_numbers():
-        if row["note"] and row["source"] == "seed" and row["item"] in ("fig6", "fig7", "table1",
-                                                                        "table2", "table3"):
+        if (
+            row["note"]
+            and row["source"] == "seed"
+            and row["item"] in ("fig6", "fig7", "table1", "table2", "table3")
+        ):
             scenes[(row["item"], row["method"], row["metric"], row["note"])].append(row["scene"])
     return [
         {"kind": "printing", "where": f"{item} {method} {', '.join(names)}", "metric": metric,

@@ -257,8 +257,10 @@ class HandheldTrajectory:
         for _ in range(6):  # both scales act nearly linearly: a few rescalings converge
             steps, _ = frame_to_frame_motion(self.poses(frame_times))
             self._path_rate *= config.step_median_m / np.median(steps)
-            self._path_rate = min(self._path_rate, (slow_count - 2) / self.SLOW_RATE / (
-                self._clock[-1] - self._clock[0]))
+            self._path_rate = min(
+                self._path_rate,
+                (slow_count - 2) / self.SLOW_RATE / (self._clock[-1] - self._clock[0]),
+            )
             _, turns = frame_to_frame_motion(self.poses(frame_times))
             self._angle_scale *= config.rotation_median_deg / np.median(turns)
 

@@ -80,8 +80,9 @@ def blur_dose_response(
         name = f"blur-{strength:g}"
         root = synthesize(out_dir / name, scenes=scenes, seed=seed, progress=False,
                           config=replace(synth_config, blur_strength=strength))  # fmt: skip
-        deblurred = write_deblurred_root(root, out_dir / f"{name}-deblurred", deblur,
-                                         workers=workers)
+        deblurred = write_deblurred_root(
+            root, out_dir / f"{name}-deblurred", deblur, workers=workers
+        )
         blur = blur_at_input(root, config)
         summaries, _ = run_pose_matrix({"blurred": root, "rnn": deblurred}, scenes,
                                        [("blurred", "lstm"), ("rnn", "lstm")], config,
@@ -116,8 +117,9 @@ def dose_response_table(rows: list[dict]) -> list[dict]:
     table = []
     for strength in dict.fromkeys(r["blur_strength"] for r in rows):
         level = [r for r in rows if r["blur_strength"] == strength]
-        paired = comparison_table(level, [("blurred", "rnn")],
-                                  ("position_m_median", "orientation_deg_median"), method="t")
+        paired = comparison_table(
+            level, [("blurred", "rnn")], ("position_m_median", "orientation_deg_median"), method="t"
+        )
         position, orientation = paired
         table.append({
             "blur_strength": strength, "frame_median_blur_px": level[0]["frame_median_blur_px"],

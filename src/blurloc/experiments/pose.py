@@ -429,8 +429,11 @@ def pose_overview(
     ----------
     Eq. 12-14 of the paper.
     """
-    columns = {"position_m": ("position_m_median", 3),
-               "orientation_deg": ("orientation_deg_median", 2), "combined": ("combined", 4)}
+    columns = {
+        "position_m": ("position_m_median", 3),
+        "orientation_deg": ("orientation_deg_median", 2),
+        "combined": ("combined", 4),
+    }
     rows = []
     for condition, head in runs:
         seeds = {r["seed"] for r in summaries if r["condition"] == condition and r["head"] == head}
@@ -441,8 +444,9 @@ def pose_overview(
         rows.append(row)
     last = {"condition": "mean training pose", "head": "-", "seeds": ""}
     for name, (_, digits) in columns.items():
-        values = [b[name]["median"] if isinstance(b[name], dict) else b[name]
-                  for b in baseline.values()]
+        values = [
+            b[name]["median"] if isinstance(b[name], dict) else b[name] for b in baseline.values()
+        ]
         last |= {name: round(float(np.mean(values)), digits), f"{name}_sd": ""}
     rows.append(last)
     return rows
@@ -475,12 +479,17 @@ def learning_check(
     for scene, value in position.items():
         base_position = baseline[scene]["position_m"]["median"]
         base_orientation = baseline[scene]["orientation_deg"]["median"]
-        rows.append({"scene": scene, "position_m": round(value, 3),
-                     "baseline_position_m": round(base_position, 3),
-                     "position_ratio": round(value / base_position, 2),
-                     "orientation_deg": round(orientation[scene], 2),
-                     "baseline_orientation_deg": round(base_orientation, 2),
-                     "orientation_ratio": round(orientation[scene] / base_orientation, 2)})
+        rows.append(
+            {
+                "scene": scene,
+                "position_m": round(value, 3),
+                "baseline_position_m": round(base_position, 3),
+                "position_ratio": round(value / base_position, 2),
+                "orientation_deg": round(orientation[scene], 2),
+                "baseline_orientation_deg": round(base_orientation, 2),
+                "orientation_ratio": round(orientation[scene] / base_orientation, 2),
+            }
+        )
     return rows
 
 

@@ -273,8 +273,12 @@ def ablation_intervals(
             interval = paired_interval(differences, method="t")
             worded = {"reproduced": below, "contradicted": above}  # a claim that it is lower
             unresolved = f"too small to resolve at this power (±{interval.half_width:.2g} {unit})"
-            row.update(minus_reference=interval.mean, ci_low=interval.low, ci_high=interval.high,
-                       verdict=worded.get(verdict(interval, claimed_sign=-1), unresolved))
+            row.update(
+                minus_reference=interval.mean,
+                ci_low=interval.low,
+                ci_high=interval.high,
+                verdict=worded.get(verdict(interval, claimed_sign=-1), unresolved),
+            )
         rows.append(row)
     return rows
 

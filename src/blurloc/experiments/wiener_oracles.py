@@ -60,6 +60,7 @@ def best_nsr(
     tuple of float
         The best NSR and its PSNR (dB, data range 1).
     """
+
     def loss(log_nsr: float) -> float:
         return -psnr(sharp, _restore(blurred, kernel, 10.0**log_nsr, linear), 1.0)
 

@@ -209,8 +209,10 @@ def resume_state(
             continue
         payload = load_checkpoint(path, None, device)
         if checkpoint_kind(payload) != kind:
-            raise ValueError(f"{path}: holds a {checkpoint_kind(payload)} model; a folder "
-                             f"holds one model kind: give another --out for this {kind} model")
+            raise ValueError(
+                f"{path}: holds a {checkpoint_kind(payload)} model; a folder "
+                f"holds one model kind: give another --out for this {kind} model"
+            )
         if restart:
             continue
         changed = _changed(payload, settings)

@@ -113,8 +113,9 @@ def train_pose(
     if not sequences:
         raise ValueError(f"{Path(root) / scene}: no training sequences")
     with fixed_threads(config.threads):
-        return _train(sequences, scene, out_dir, config, device, resumed, progress, stop_after,
-                      cache)
+        return _train(
+            sequences, scene, out_dir, config, device, resumed, progress, stop_after, cache
+        )
 
 
 def _train(
