@@ -71,6 +71,7 @@ def test_devices_are_checked() -> None:
         (["train-video-deblur", "--crop", "0"], "--crop"),
         (["train-video-deblur", "--device", "gpu0"], "--device"),
         (["train-video-deblur", "--validation-per-scene", "-1"], "--validation-per-scene"),
+        (["train-video-deblur", "--photo-videos", "-1"], "--photo-videos"),
     ],
 )
 def test_bad_training_options_exit_1_naming_the_option(

@@ -21,6 +21,7 @@ from blurloc.experiments.photo_video import (
     PHOTO_TRAINING_PHOTOS,
     PHOTO_VIDEO_PHOTOS,
     PHOTO_VIDEO_SPEEDS,
+    add_photo_videos,
     photo_training_videos,
     photo_video,
     photo_video_gains,
@@ -401,6 +402,18 @@ def test_photo_training_videos_blur_photographs_the_scored_set_does_not_show() -
     assert not np.array_equal(photo_training_videos(1, frames=4, seed=1)[0][0], videos[0][0])
     with pytest.raises(ValueError, match="count"):
         photo_training_videos(0)
+
+
+def test_add_photo_videos_appends_to_training_and_validation() -> None:
+    video = (np.zeros((5, 120, 160, 3), np.uint8),) * 2
+    splits = {"train": [video] * 3, "validation": [video], "test": [video]}
+    assert add_photo_videos(splits, 0) is splits
+    mixed = add_photo_videos(splits, 3, frames=2)
+    assert [len(mixed[name]) for name in ("train", "validation", "test")] == [6, 2, 1]
+    assert len(splits["train"]) == 3  # the given lists are not changed
+    assert mixed["train"][3][0].shape == (2, 120, 160, 3)
+    with pytest.raises(ValueError, match="--photo-videos"):
+        add_photo_videos(splits, -1)
 
 
 def test_photo_video_gains_score_every_photo_and_speed_against_the_input() -> None:

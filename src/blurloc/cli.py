@@ -201,6 +201,7 @@ def _deblur(args: argparse.Namespace) -> int:
 def _train_video_deblur(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
+    from .experiments.photo_video import add_photo_videos
     from .train.config import VideoTrainConfig
     from .train.loop import choose_device
     from .train.video import load_video_splits, train_video_deblur
@@ -218,12 +219,15 @@ def _train_video_deblur(args: argparse.Namespace) -> int:
     if args.validation_per_scene < 0:
         raise ValueError(f"--validation-per-scene must be >= 0 (0: all), got "
                          f"{args.validation_per_scene}")  # fmt: skip
+    if args.photo_videos < 0:
+        raise ValueError(f"--photo-videos must be >= 0, got {args.photo_videos}")
     splits = load_video_splits(
         args.data,
         args.scenes,
         with_test=False,
         validation_per_scene=args.validation_per_scene or None,
     )
+    splits = add_photo_videos(splits, args.photo_videos)
     history = train_video_deblur(splits, args.out, config, progress=not args.quiet,
                                  restart=args.restart)  # fmt: skip
     print(json.dumps({"checkpoint": str(Path(args.out) / "best.pt"),
@@ -385,6 +389,13 @@ def build_parser() -> argparse.ArgumentParser:
         default=1,
         help="validate on the last 15 %% of that many training sequences per "
         "scene (default 1; 0: all)",
+    )
+    train.add_argument(
+        "--photo-videos",
+        type=int,
+        default=0,
+        help="add that many GoPro-style videos made from photographs to the training videos "
+        "(half as many to the validation; default 0)",
     )
     train.add_argument("--seed", type=int, default=DEFAULT_SEED)
     train.add_argument("--device", default="auto", help="auto (CUDA when present), cpu, cuda")

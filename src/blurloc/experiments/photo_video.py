@@ -16,6 +16,8 @@ from .estimation import PHOTOS
 #: 9 sub-frames per frame, so the blur spans about 4.5, 9 and 13.5 px at 160x120.
 PHOTO_VIDEO_PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "immunohistochemistry")
 PHOTO_VIDEO_SPEEDS = (0.5, 1.0, 1.5)
+#: Frames of every photo training video (:func:`photo_training_videos`).
+PHOTO_TRAINING_FRAMES = 30
 #: Photographs for training videos: the other photographs of notebook 01's set, none of which the
 #: photo-video set shows.
 PHOTO_TRAINING_PHOTOS = tuple(photo for photo in PHOTOS if photo not in PHOTO_VIDEO_PHOTOS)
@@ -123,7 +125,10 @@ def photo_video_gains(restore: Callable[[np.ndarray], np.ndarray], frames: int =
 
 
 def photo_training_videos(
-    count: int, frames: int = 30, seed: int = 0, photos: tuple[str, ...] = PHOTO_TRAINING_PHOTOS
+    count: int,
+    frames: int = PHOTO_TRAINING_FRAMES,
+    seed: int = 0,
+    photos: tuple[str, ...] = PHOTO_TRAINING_PHOTOS,
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """Blurred videos with their sharp frames, made the GoPro way (:func:`photo_video`) from
     photographs, for training a video deblurrer on natural image content.
@@ -170,3 +175,39 @@ def photo_training_videos(
                                   angle_deg=rng.uniform(0.0, 360.0),
                                   seed=int(rng.integers(2**31))))  # fmt: skip
     return videos
+
+
+def add_photo_videos(splits: dict, count: int, frames: int = PHOTO_TRAINING_FRAMES) -> dict:
+    """Training and validation videos with photo training videos appended.
+
+    ``count`` videos of :func:`photo_training_videos` (seed 0) join the training videos and
+    half as many (at least one; seed 1: other crops and motions of the same photographs) the
+    validation videos. The trainer draws every training video equally often, so ``count`` sets
+    the share of clips cut from photographs: 14 beside the default stand-in's 28 training
+    sequences make a third.
+
+    Parameters
+    ----------
+    splits : dict
+        ``train`` and ``validation`` lists of (blurred, sharp) uint8 videos, as
+        :func:`blurloc.train.video.load_video_splits` gives them.
+    count : int
+        Photo videos to add for training (0: ``splits`` unchanged).
+    frames : int
+        Frames per photo video.
+
+    Returns
+    -------
+    dict
+        ``splits`` with the lists extended (a new dict; other keys kept).
+    """
+    if count < 0:
+        raise ValueError(f"--photo-videos must be >= 0, got {count}")
+    if count == 0:
+        return splits
+    return {
+        **splits,
+        "train": splits["train"] + photo_training_videos(count, frames, seed=0),
+        "validation": splits["validation"]
+        + photo_training_videos(max(1, count // 2), frames, seed=1),
+    }
