@@ -24,8 +24,10 @@ video equally often. Each network keeps its best checkpoint on the validation fr
 trains on (the last 15 % of one whole training sequence per scene of each root; N/2 more photo
 videos, seed 1, for ``photo_mix``).
 Every network is scored on the first ``--frames`` frames of every test sequence of each root
-and on the photo videos. Printed: each network's PSNR gain over the blurred input per seed,
-and, per test set, the paired difference to ``standin`` with its 95 % t-interval
+and on the photo videos; with ``--photo-videos``, also on the photo videos ``photo_mix`` trained
+on (``photo_training``: how well a network fits them, not a test). Printed: each network's
+PSNR gain over the blurred input per seed, and, per test set, the paired difference to
+``standin`` with its 95 % t-interval
 (:func:`blurloc.experiments.video_ablation.ablation_intervals`).
 Finished trainings in ``--out`` are reused; one made with other settings is refused (runs
 from before bounded recurrent states became the package's default among them: delete them).
@@ -41,14 +43,19 @@ from pathlib import Path
 
 import numpy as np
 
-from blurloc.experiments.photo_video import photo_training_videos, photo_video_gains
+from blurloc.experiments.photo_video import (
+    add_photo_videos,
+    photo_training_videos,
+    photo_video_gains,
+)
 from blurloc.experiments.video_ablation import (
     INTERVAL_COLUMNS,
     AblationRun,
     ablation_gains,
     ablation_intervals,
 )
-from blurloc.inference import VideoRestorer
+from blurloc.inference import VideoRestorer, load_video_deblur, restore_sequence
+from blurloc.metrics import mean_frame_psnr
 from blurloc.models.video_deblur import VideoDeblurNet, parameter_count
 from blurloc.tables import save_table
 from blurloc.train.config import VideoTrainConfig
@@ -56,7 +63,6 @@ from blurloc.train.loop import parallel_map
 from blurloc.train.video import load_video_splits, train_video_deblur
 
 TRAINING_FRAMES = 250  # per sequence of --root, as notebook 03's trainings
-PHOTO_VIDEO_FRAMES = 30  # per photo training video
 
 
 @functools.cache
@@ -70,13 +76,18 @@ def training_splits(root: str, strong_root: str | None, photo_videos: int) -> di
     if strong_root is not None:
         strong = load_video_splits(strong_root, validation_per_scene=1, with_test=False)
         splits = {name: splits[name] + strong[name] for name in ("train", "validation")}
-    if photo_videos:
-        splits = {
-            "train": splits["train"] + photo_training_videos(photo_videos, PHOTO_VIDEO_FRAMES, 0),
-            "validation": splits["validation"]
-            + photo_training_videos(max(1, photo_videos // 2), PHOTO_VIDEO_FRAMES, 1),
-        }
-    return splits
+    return add_photo_videos(splits, photo_videos)
+
+
+def photo_training_gain(folder: Path, videos: list) -> float:
+    """Mean over ``videos`` of the PSNR gain (dB) of the network in ``folder`` over the
+    blurred input, each video restored as one."""
+    model = load_video_deblur(folder / "best.pt")
+    return float(np.mean([
+        mean_frame_psnr(list(zip(restore_sequence(model, blurred), sharp, strict=True)))
+        - mean_frame_psnr(list(zip(blurred, sharp, strict=True)))
+        for blurred, sharp in videos
+    ]))  # fmt: skip
 
 
 def train_one(job: tuple) -> AblationRun:
@@ -146,6 +157,13 @@ def main() -> None:
             f"{worst['gain_db']:+.2f} dB ({worst['photo']}, {worst['step_px']} px); by speed "
             + ", ".join(f"{step} px: {gain:+.2f}" for step, gain in by_speed.items())
         )
+
+    if args.photo_videos:  # the videos photo_mix trained on: how well each network fits them
+        videos = photo_training_videos(args.photo_videos, seed=0)
+        gains["photo_training"] = {}
+        for run in runs:
+            gain = photo_training_gain(run.folder, videos)
+            gains["photo_training"].setdefault(run.variant, {})[run.seed] = gain
 
     table = []
     for test, by_network in gains.items():
