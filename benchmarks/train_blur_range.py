@@ -6,7 +6,7 @@ own blur?
     python benchmarks/train_blur_range.py --root data/standin --strong-root data/standin-strong \
         [--seeds 0 1 2] [--steps 1200] [--frames 100] [--out build/blur_range] [--workers 2]
     python benchmarks/train_blur_range.py --root data/standin --photo-videos 14 \
-        --out build/photo_mix
+        [--photos-only] --out build/photo_mix
 
 The stand-in's blur is a few pixels (median 3.2 px at 160x120, 90th percentile 6.5 px); the
 GoPro-style photo videos (:func:`blurloc.experiments.photo_video.photo_video_gains`) carry about
@@ -22,7 +22,8 @@ photographs that the photo-video set does not show
 stand-in's 28 training sequences: a third of the clips). Clips are drawn from the union, every
 video equally often. Each network keeps its best checkpoint on the validation frames of what it
 trains on (the last 15 % of one whole training sequence per scene of each root; N/2 more photo
-videos, seed 1, for ``photo_mix``).
+videos, seed 1, for ``photo_mix``). With ``--photos-only``, ``photos_only`` trains on the N
+photo videos alone and validates on their N/2.
 Every network is scored on the first ``--frames`` frames of every test sequence of each root
 and on the photo videos; with ``--photo-videos``, also on the photo videos ``photo_mix`` trained
 on (``photo_training``: how well a network fits them, not a test). Printed: each network's
@@ -66,13 +67,15 @@ TRAINING_FRAMES = 250  # per sequence of --root, as notebook 03's trainings
 
 
 @functools.cache
-def training_splits(root: str, strong_root: str | None, photo_videos: int) -> dict:
+def training_splits(root: str | None, strong_root: str | None, photo_videos: int) -> dict:
     """Training and validation videos of ``root`` (first 250 frames of every training sequence;
-    the end of one whole training sequence per scene), with those of ``strong_root`` and
-    ``photo_videos`` photo videos (half as many more to validate on) appended when given; read
-    once per process."""
-    splits = load_video_splits(root, frames_per_sequence=TRAINING_FRAMES, validation_per_scene=1,
-                               with_test=False)  # fmt: skip
+    the end of one whole training sequence per scene; none when None), with those of
+    ``strong_root`` and ``photo_videos`` photo videos (half as many more to validate on)
+    appended when given; read once per process."""
+    splits = {"train": [], "validation": []}
+    if root is not None:
+        splits = load_video_splits(root, frames_per_sequence=TRAINING_FRAMES,
+                                   validation_per_scene=1, with_test=False)  # fmt: skip
     if strong_root is not None:
         strong = load_video_splits(strong_root, validation_per_scene=1, with_test=False)
         splits = {name: splits[name] + strong[name] for name in ("train", "validation")}
@@ -91,8 +94,8 @@ def photo_training_gain(folder: Path, videos: list) -> float:
 
 
 def train_one(job: tuple) -> AblationRun:
-    """Train (or reuse) one network: job = (name, seed, root, strong root or None, photo
-    videos, config, folder)."""
+    """Train (or reuse) one network: job = (name, seed, root or None, strong root or None,
+    photo videos, config, folder)."""
     name, seed, root, strong_root, photo_videos, config, folder = job
     history = train_video_deblur(training_splits(root, strong_root, photo_videos), folder,
                                  config, progress=False)  # fmt: skip
@@ -109,6 +112,11 @@ def main() -> None:
         default=0,
         help="photo training videos added for the photo_mix network",
     )
+    parser.add_argument(
+        "--photos-only",
+        action="store_true",
+        help="also train photos_only, on the photo training videos alone",
+    )
     parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
     parser.add_argument("--steps", type=int, default=1200)
     parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
@@ -119,6 +127,8 @@ def main() -> None:
         parser.error("--seeds: at least two, for a paired interval")
     if args.photo_videos < 0:
         parser.error(f"--photo-videos must be >= 0, got {args.photo_videos}")
+    if args.photos_only and not args.photo_videos:
+        parser.error("--photos-only needs --photo-videos")
     if args.strong_root is None and not args.photo_videos:
         parser.error("give --strong-root, --photo-videos or both: something to compare with")
 
@@ -126,14 +136,17 @@ def main() -> None:
     if args.workers > 1:
         budget = replace(budget, threads=1)  # one thread per worker process
     parameters = parameter_count(VideoDeblurNet(budget.model))  # the same network for both
-    training = {"standin": (None, 0)}
+    training = {"standin": (args.root, None, 0)}  # name: root, strong root, photo videos
     if args.strong_root is not None:
-        training["blur_range"] = (args.strong_root, 0)
+        training["blur_range"] = (args.root, args.strong_root, 0)
     if args.photo_videos:
-        training["photo_mix"] = (None, args.photo_videos)
-    jobs = [(name, seed, args.root, strong, photos, replace(budget, seed=seed),
+        training["photo_mix"] = (args.root, None, args.photo_videos)
+    if args.photos_only:
+        training["photos_only"] = (None, None, args.photo_videos)
+    jobs = [(name, seed, root, strong, photos, replace(budget, seed=seed),
              f"{args.out}/{name}-seed{seed}")
-            for name, (strong, photos) in training.items() for seed in args.seeds]  # fmt: skip
+            for name, (root, strong, photos) in training.items()
+            for seed in args.seeds]  # fmt: skip
     started = time.perf_counter()
     runs = list(parallel_map(train_one, jobs, args.workers))
     print(f"{len(runs)} trainings of {args.steps} steps in {time.perf_counter() - started:.0f} s")
