@@ -398,7 +398,7 @@ def test_photo_training_videos_blur_photographs_the_scored_set_does_not_show() -
         assert blurred.shape == sharp.shape == (4, 120, 160, 3) and blurred.dtype == np.uint8
         assert gradient_energy(blurred) < 0.8 * gradient_energy(sharp)  # blurred, not just noisy
     again = photo_training_videos(2, frames=4, seed=0)
-    assert all(np.array_equal(a[0], b[0]) for a, b in zip(again, videos, strict=False))
+    assert all(np.array_equal(a[0], b[0]) for a, b in zip(again, videos[:2], strict=True))
     assert not np.array_equal(photo_training_videos(1, frames=4, seed=1)[0][0], videos[0][0])
     with pytest.raises(ValueError, match="count"):
         photo_training_videos(0)
@@ -412,7 +412,9 @@ def test_add_photo_videos_appends_to_training_and_validation() -> None:
     assert [len(mixed[name]) for name in ("train", "validation", "test")] == [6, 2, 1]
     assert len(splits["train"]) == 3  # the given lists are not changed
     assert mixed["train"][3][0].shape == (2, 120, 160, 3)
-    with pytest.raises(ValueError, match="--photo-videos"):
+    assert [len(add_photo_videos(splits, 1, frames=2)[name]) for name in splits] == [4, 2, 1]
+    assert not np.array_equal(mixed["validation"][1][0], mixed["train"][3][0])  # other videos
+    with pytest.raises(ValueError, match="count"):
         add_photo_videos(splits, -1)
 
 

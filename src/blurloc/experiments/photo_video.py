@@ -90,6 +90,29 @@ def photo_video(
     return np.stack(blurred), np.stack(sharp)
 
 
+def restoration_psnr(
+    restore: Callable[[np.ndarray], np.ndarray], blurred: np.ndarray, sharp: np.ndarray
+) -> tuple[float, float]:
+    """Mean PSNR (eq. 6) of a blurred video and of its restoration against the sharp frames.
+
+    Parameters
+    ----------
+    restore : callable
+        Function of a uint8 (T, H, W, 3) video returning one of that shape, e.g.
+        :class:`blurloc.inference.VideoRestorer`.
+    blurred, sharp : numpy.ndarray
+        uint8 (T, H, W, 3) videos; ``blurred`` is restored as one video.
+
+    Returns
+    -------
+    before, after : float
+        Mean PSNR over the frames, dB, of ``blurred`` and of ``restore(blurred)``.
+    """
+    before = mean_frame_psnr(list(zip(blurred, sharp, strict=True)))
+    after = mean_frame_psnr(list(zip(restore(blurred), sharp, strict=True)))
+    return before, after
+
+
 def photo_video_gains(restore: Callable[[np.ndarray], np.ndarray], frames: int = 8) -> list[dict]:
     """PSNR gain of a video restorer on the photo-video set, one row per video.
 
@@ -117,8 +140,7 @@ def photo_video_gains(restore: Callable[[np.ndarray], np.ndarray], frames: int =
         for step in PHOTO_VIDEO_SPEEDS:
             blurred, sharp = photo_video(image, frames, step_px=step, angle_deg=37.0 * index,
                                          seed=index)  # fmt: skip
-            before = mean_frame_psnr(list(zip(blurred, sharp, strict=True)))
-            after = mean_frame_psnr(list(zip(restore(blurred), sharp, strict=True)))
+            before, after = restoration_psnr(restore, blurred, sharp)
             rows.append({"photo": photo, "step_px": step, "blurred_psnr_db": before,
                          "restored_psnr_db": after, "gain_db": after - before})  # fmt: skip
     return rows
@@ -134,9 +156,13 @@ def photo_training_videos(
     photographs, for training a video deblurrer on natural image content.
 
     Video ``i`` pans over photograph ``photos[i % len(photos)]`` after a random crop (70-100 %
-    of each side, which also sets the magnification), a random quarter turn and a random
-    mirror (gray photographs become gray RGB), at a random speed of 0.25-1.75 px per sub-frame
-    (blur of about 2-16 px at 160x120) in a random direction, with its own noise.
+    of each side, drawn apart, so that the crop, resized to 4:3 by :func:`photo_video`, is also
+    magnified and stretched by up to about 2x), a random quarter turn and a random mirror, at a
+    random speed of 0.25-1.75 px per sub-frame (blur of about 2-16 px at 160x120) in a random
+    direction, with its own noise. Gray photographs (seven of the nine defaults) become gray
+    RGB. The pan runs ``frames`` x 9 sub-frames: at 30 frames most videos leave the photograph
+    and go on over its mirror image (:func:`photo_video` reflects at the border), so their
+    frames can show mirror seams, in the blurred and the sharp frames alike.
 
     Parameters
     ----------
@@ -155,6 +181,11 @@ def photo_training_videos(
     list of (blurred, sharp)
         uint8 (frames, 120, 160, 3) pairs, as :func:`blurloc.train.video.load_video_splits`
         gives them.
+
+    Raises
+    ------
+    ValueError
+        If ``count`` or ``frames`` is not positive or no photograph is given.
     """
     if count < 1 or frames < 1 or not photos:
         raise ValueError(f"count ({count}) and frames ({frames}) must be positive, photos given")
@@ -177,14 +208,19 @@ def photo_training_videos(
     return videos
 
 
-def add_photo_videos(splits: dict, count: int, frames: int = PHOTO_TRAINING_FRAMES) -> dict:
+def add_photo_videos(
+    splits: dict[str, list[tuple[np.ndarray, np.ndarray]]],
+    count: int,
+    frames: int = PHOTO_TRAINING_FRAMES,
+) -> dict[str, list[tuple[np.ndarray, np.ndarray]]]:
     """Training and validation videos with photo training videos appended.
 
     ``count`` videos of :func:`photo_training_videos` (seed 0) join the training videos and
     half as many (at least one; seed 1: other crops and motions of the same photographs) the
     validation videos. The trainer draws every training video equally often, so ``count`` sets
     the share of clips cut from photographs: 14 beside the default stand-in's 28 training
-    sequences make a third.
+    sequences make a third. Every call adds the same videos (fixed seeds), whatever the
+    training seed.
 
     Parameters
     ----------
@@ -199,10 +235,16 @@ def add_photo_videos(splits: dict, count: int, frames: int = PHOTO_TRAINING_FRAM
     Returns
     -------
     dict
-        ``splits`` with the lists extended (a new dict; other keys kept).
+        ``splits`` itself when ``count`` is 0; else a new dict with the two lists extended and
+        the other keys kept.
+
+    Raises
+    ------
+    ValueError
+        If ``count`` is negative.
     """
     if count < 0:
-        raise ValueError(f"--photo-videos must be >= 0, got {count}")
+        raise ValueError(f"count must be >= 0, got {count}")
     if count == 0:
         return splits
     return {
