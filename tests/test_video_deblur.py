@@ -217,6 +217,10 @@ def test_training_learns_resumes_identically_and_checkpoints_load(
     fewer = {**splits, "validation": splits["validation"][:-1]}
     with pytest.raises(ValueError, match=r"validation\.sequences"):
         train_video_deblur(fewer, tmp_path / "b", config, progress=False)
+    # nor one trained on other videos (e.g. other scenes or more photo videos)
+    more = {**splits, "train": [*splits["train"], splits["train"][0]]}
+    with pytest.raises(ValueError, match=r"train\.sequences"):
+        train_video_deblur(more, tmp_path / "b", config, progress=False)
 
 
 def test_validation_parts_are_the_ends_of_whole_training_sequences(

@@ -176,8 +176,9 @@ def train_video_deblur(
 
     ``best.pt`` holds the network with the best validation PSNR, ``last.pt`` (written at every
     validation) the state to resume from. A run in ``out_dir`` with the same settings and as
-    many validation sequences and frames resumes where it stopped, with the same numbers as an
-    uninterrupted run (a best network chosen on other validation frames is never resumed).
+    many training and validation sequences and frames resumes where it stopped, with the same
+    numbers as an uninterrupted run (a network is never continued on other training videos, nor
+    a best network chosen on other validation frames).
 
     Parameters
     ----------
@@ -209,9 +210,10 @@ def train_video_deblur(
     config = config or VideoTrainConfig()
     out_dir = Path(out_dir)
     device = choose_device(config.device)
-    validation = {"sequences": len(splits["validation"]),
-                  "frames": sum(len(blurred) for blurred, _ in splits["validation"])}  # fmt: skip
-    settings = {"train_config": config.settings(), "validation": validation}
+    counts = {split: {"sequences": len(splits[split]),
+                      "frames": sum(len(blurred) for blurred, _ in splits[split])}
+              for split in ("train", "validation")}  # fmt: skip
+    settings = {"train_config": config.settings(), **counts}
     resumed = resume_state(out_dir, "video-deblur", settings, restart, device)
     with fixed_threads(config.threads):
         return _train(splits, out_dir, config, settings, device, resumed, progress, stop_after)
