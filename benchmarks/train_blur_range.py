@@ -21,9 +21,9 @@ photographs that the photo-video set does not show
 (:func:`blurloc.experiments.photo_video.photo_training_videos`, seed 0; 14 beside the default
 stand-in's 28 training sequences: a third of the clips). Clips are drawn from the union, every
 video equally often. Each network keeps its best checkpoint on the validation frames of what it
-trains on (the last 15 % of one whole training sequence per scene of each root; N/2 more photo
-videos, seed 1, for ``photo_mix``). With ``--photos-only``, ``photos_only`` trains on the N
-photo videos alone and validates on their N/2.
+trains on (the last 15 % of one whole training sequence per scene of each root; N // 2, at
+least one, more photo videos, seed 1, for ``photo_mix``). With ``--photos-only``,
+``photos_only`` trains on the N photo videos alone and validates on those N // 2.
 Every network is scored on the first ``--frames`` frames of every test sequence of each root
 and on the photo videos; with ``--photo-videos``, also on the photo videos ``photo_mix`` trained
 on (``photo_training``: how well a network fits them, not a test). Printed: each network's
@@ -48,6 +48,7 @@ from blurloc.experiments.photo_video import (
     add_photo_videos,
     photo_training_videos,
     photo_video_gains,
+    restoration_psnr,
 )
 from blurloc.experiments.video_ablation import (
     INTERVAL_COLUMNS,
@@ -55,8 +56,7 @@ from blurloc.experiments.video_ablation import (
     ablation_gains,
     ablation_intervals,
 )
-from blurloc.inference import VideoRestorer, load_video_deblur, restore_sequence
-from blurloc.metrics import mean_frame_psnr
+from blurloc.inference import VideoRestorer
 from blurloc.models.video_deblur import VideoDeblurNet, parameter_count
 from blurloc.tables import save_table
 from blurloc.train.config import VideoTrainConfig
@@ -67,30 +67,31 @@ TRAINING_FRAMES = 250  # per sequence of --root, as notebook 03's trainings
 
 
 @functools.cache
+def root_splits(root: str, frames_per_sequence: int | None) -> dict:
+    """Training and validation videos of a stand-in root (the end of one whole training
+    sequence per scene to validate on), read once per process."""
+    return load_video_splits(root, frames_per_sequence=frames_per_sequence,
+                             validation_per_scene=1, with_test=False)  # fmt: skip
+
+
 def training_splits(root: str | None, strong_root: str | None, photo_videos: int) -> dict:
     """Training and validation videos of ``root`` (first 250 frames of every training sequence;
-    the end of one whole training sequence per scene; none when None), with those of
-    ``strong_root`` and ``photo_videos`` photo videos (half as many more to validate on)
-    appended when given; read once per process."""
+    none when None), with those of ``strong_root`` and ``photo_videos`` photo videos
+    (:func:`~blurloc.experiments.photo_video.add_photo_videos`) appended when given."""
     splits = {"train": [], "validation": []}
-    if root is not None:
-        splits = load_video_splits(root, frames_per_sequence=TRAINING_FRAMES,
-                                   validation_per_scene=1, with_test=False)  # fmt: skip
-    if strong_root is not None:
-        strong = load_video_splits(strong_root, validation_per_scene=1, with_test=False)
-        splits = {name: splits[name] + strong[name] for name in ("train", "validation")}
+    for part in (root_splits(root, TRAINING_FRAMES) if root else None,
+                 root_splits(strong_root, None) if strong_root else None):  # fmt: skip
+        if part is not None:
+            splits = {name: splits[name] + part[name] for name in ("train", "validation")}
     return add_photo_videos(splits, photo_videos)
 
 
 def photo_training_gain(folder: Path, videos: list) -> float:
     """Mean over ``videos`` of the PSNR gain (dB) of the network in ``folder`` over the
     blurred input, each video restored as one."""
-    model = load_video_deblur(folder / "best.pt")
-    return float(np.mean([
-        mean_frame_psnr(list(zip(restore_sequence(model, blurred), sharp, strict=True)))
-        - mean_frame_psnr(list(zip(blurred, sharp, strict=True)))
-        for blurred, sharp in videos
-    ]))  # fmt: skip
+    restore = VideoRestorer(folder / "best.pt")
+    return float(np.mean([np.subtract(*restoration_psnr(restore, blurred, sharp)[::-1])
+                          for blurred, sharp in videos]))  # fmt: skip
 
 
 def train_one(job: tuple) -> AblationRun:
@@ -135,7 +136,7 @@ def main() -> None:
     budget = VideoTrainConfig(steps=args.steps, validate_every=100)
     if args.workers > 1:
         budget = replace(budget, threads=1)  # one thread per worker process
-    parameters = parameter_count(VideoDeblurNet(budget.model))  # the same network for both
+    parameters = parameter_count(VideoDeblurNet(budget.model))  # the same network for every variant
     training = {"standin": (args.root, None, 0)}  # name: root, strong root, photo videos
     if args.strong_root is not None:
         training["blur_range"] = (args.root, args.strong_root, 0)
@@ -182,12 +183,12 @@ def main() -> None:
     for test, by_network in gains.items():
         for name, by_seed in by_network.items():
             print(
-                f"{test:13s} {name:11s} "
+                f"{test:14s} {name:11s} "
                 + ", ".join(f"seed {s}: {g:+.2f} dB" for s, g in by_seed.items())
             )
         rows = ablation_intervals(by_network, dict.fromkeys(by_network, parameters),
-                                  reference="standin", below="lower with the wider data",
-                                  above="higher with the wider data")  # fmt: skip
+                                  reference="standin", below="lower than the stand-in alone",
+                                  above="higher than the stand-in alone")  # fmt: skip
         table += [{"test_set": test, **{key: round(value, 3) if isinstance(value, float)
                                         else value for key, value in row.items()}}
                   for row in rows]  # fmt: skip
