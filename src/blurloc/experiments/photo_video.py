@@ -1,4 +1,5 @@
-"""Blurred videos made the GoPro way from still photographs (the video benchmark)."""
+"""Blurred videos made the GoPro way from still photographs: the video benchmark's set, and
+training videos from other photographs."""
 
 from __future__ import annotations
 
