@@ -37,7 +37,6 @@ from before bounded recurrent states became the package's default among them: de
 from __future__ import annotations
 
 import argparse
-import functools
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -55,34 +54,27 @@ from blurloc.experiments.video_ablation import (
     AblationRun,
     ablation_gains,
     ablation_intervals,
+    training_videos,
 )
 from blurloc.inference import VideoRestorer
 from blurloc.models.video_deblur import VideoDeblurNet, parameter_count
 from blurloc.tables import save_table
 from blurloc.train.config import VideoTrainConfig
 from blurloc.train.loop import parallel_map
-from blurloc.train.video import load_video_splits, train_video_deblur
+from blurloc.train.video import train_video_deblur
 
 TRAINING_FRAMES = 250  # per sequence of --root, as notebook 03's trainings
-
-
-@functools.cache
-def root_splits(root: str, frames_per_sequence: int | None) -> dict:
-    """Training and validation videos of a stand-in root (the end of one whole training
-    sequence per scene to validate on), read once per process."""
-    return load_video_splits(root, frames_per_sequence=frames_per_sequence,
-                             validation_per_scene=1, with_test=False)  # fmt: skip
 
 
 def training_splits(root: str | None, strong_root: str | None, photo_videos: int) -> dict:
     """Training and validation videos of ``root`` (first 250 frames of every training sequence;
     none when None), with those of ``strong_root`` and ``photo_videos`` photo videos
     (:func:`~blurloc.experiments.photo_video.add_photo_videos`) appended when given."""
-    splits = {"train": [], "validation": []}
-    for part in (root_splits(root, TRAINING_FRAMES) if root else None,
-                 root_splits(strong_root, None) if strong_root else None):  # fmt: skip
-        if part is not None:
-            splits = {name: splits[name] + part[name] for name in ("train", "validation")}
+    parts = [training_videos(root, TRAINING_FRAMES, 1)] if root else []
+    if strong_root:
+        parts.append(training_videos(strong_root, None, 1))
+    splits = {name: [video for part in parts for video in part[name]]
+              for name in ("train", "validation")}  # fmt: skip
     return add_photo_videos(splits, photo_videos)
 
 
@@ -90,8 +82,11 @@ def photo_training_gain(folder: Path, videos: list) -> float:
     """Mean over ``videos`` of the PSNR gain (dB) of the network in ``folder`` over the
     blurred input, each video restored as one."""
     restore = VideoRestorer(folder / "best.pt")
-    return float(np.mean([np.subtract(*restoration_psnr(restore, blurred, sharp)[::-1])
-                          for blurred, sharp in videos]))  # fmt: skip
+    gains = []
+    for blurred, sharp in videos:
+        before, after = restoration_psnr(restore, blurred, sharp)
+        gains.append(after - before)
+    return float(np.mean(gains))
 
 
 def train_one(job: tuple) -> AblationRun:

@@ -135,15 +135,33 @@ def train_ablations(
             for name, model in variants.items() for seed in seeds]  # fmt: skip
     done = parallel_map(_train_one, jobs, workers)
     runs = list(tqdm(done, total=len(jobs), disable=not progress, desc="video ablations"))
-    _splits.cache_clear()  # the frames held in this process (workers > 1: in none)
+    training_videos.cache_clear()  # the frames held in this process (workers > 1: in none)
     return runs
 
 
 @functools.cache
-def _splits(
+def training_videos(
     root: str, frames_per_sequence: int | None, validation_per_scene: int | None
 ) -> dict[str, list[Video]]:
-    """:func:`~blurloc.train.video.load_video_splits`, once per process."""
+    """The training and validation videos of a stand-in root, read once per process.
+
+    :func:`~blurloc.train.video.load_video_splits` without the test split, cached, so that the
+    trainings one process makes on a root share its frames.
+
+    Parameters
+    ----------
+    root : str
+        A stand-in root (it needs the sharp frames).
+    frames_per_sequence : int or None
+        Train on the first that many frames of every training sequence (all when None).
+    validation_per_scene : int or None
+        Validate on the ends of that many training sequences per scene (all when None).
+
+    Returns
+    -------
+    dict
+        ``train``, ``validation`` and an empty ``test`` list of (blurred, sharp) uint8 videos.
+    """
     return load_video_splits(root, frames_per_sequence=frames_per_sequence, with_test=False,
                              validation_per_scene=validation_per_scene)  # fmt: skip
 
@@ -151,7 +169,7 @@ def _splits(
 def _train_one(job: tuple) -> AblationRun:
     """Train (or reuse) one run of :func:`train_ablations`."""
     root, frames_per_sequence, validation_per_scene, name, seed, config, folder = job
-    splits = _splits(root, frames_per_sequence, validation_per_scene)
+    splits = training_videos(root, frames_per_sequence, validation_per_scene)
     history = train_video_deblur(splits, folder, config, progress=False)
     return AblationRun(name, seed, folder, history)
 
