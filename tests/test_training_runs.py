@@ -8,11 +8,13 @@ import json
 import os
 import subprocess
 import sys
+import time
 from dataclasses import replace
 from pathlib import Path
 
 import cv2
 import numpy as np
+import psutil
 import pytest
 import torch
 
@@ -250,6 +252,42 @@ def test_parallel_map_hands_a_chunk_to_one_process() -> None:
     processes = list(parallel_map(_process_id, range(6), 2, chunksize=3))
     assert len(set(processes[:3])) == len(set(processes[3:])) == 1
     assert os.getpid() not in processes
+
+
+def _mark_and_wait(marker: str) -> None:
+    Path(marker).touch()
+    time.sleep(120)
+
+
+def test_parallel_map_workers_end_with_their_parent(tmp_path: Path) -> None:
+    """kill -9 of a process training in parallel_map's workers ends the workers within
+    seconds, instead of letting them train on for minutes."""
+    markers = [tmp_path / f"started-{n}" for n in range(2)]
+    code = (f"import sys; sys.path.insert(0, {str(Path(__file__).parent)!r}); "
+            f"from test_training_runs import _mark_and_wait; "
+            f"from blurloc.train.loop import parallel_map; "
+            f"list(parallel_map(_mark_and_wait, {[str(m) for m in markers]!r}, 2))")  # fmt: skip
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    parent = subprocess.Popen([sys.executable, "-c", code], env=env)
+    workers: list[psutil.Process] = []
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and not all(m.exists() for m in markers):
+            time.sleep(0.1)
+        assert all(m.exists() for m in markers), "the workers did not start their jobs"
+        workers = [child for child in psutil.Process(parent.pid).children(recursive=True)
+                   if "spawn_main" in " ".join(child.cmdline())]  # fmt: skip
+        assert len(workers) == 2
+        parent.kill()
+        parent.wait()
+        _, alive = psutil.wait_procs(workers, timeout=5)
+        assert alive == []
+    finally:
+        for process in workers:
+            if process.is_running():
+                process.kill()
+        if parent.poll() is None:
+            parent.kill()
 
 
 def test_a_switch_added_off_since_a_run_is_not_a_change() -> None:

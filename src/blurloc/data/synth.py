@@ -25,8 +25,6 @@ import multiprocessing
 import os
 import shutil
 import sys
-import threading
-import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field, replace
@@ -48,6 +46,7 @@ from ..geometry import (
     project,
 )
 from ..images import to_uint8
+from ..processes import process_alive, watch_parent
 from .render import Scene, render_poses, render_reference, surface_depth
 from .scenes import SCENE_NAMES, SEQUENCE_COUNTS, camera_region, make_scene
 
@@ -539,22 +538,6 @@ def _render_job(job: tuple) -> int:
     return render_sequence(*job)
 
 
-def _watch_parent(parent_pid: int, interval_s: float = 0.2) -> None:
-    """Pool initializer: end this worker as soon as process ``parent_pid`` is gone.
-
-    A pool's workers outlive a parent killed with SIGKILL (no clean-up runs in it) and would go
-    on writing frames; a daemon thread polls the parent's PID and exits the worker when it no
-    longer exists. (With forkserver the workers' own parent is the fork server, which lives as
-    long as they do, so ``os.getppid`` cannot tell.)"""
-
-    def watch() -> None:
-        while _process_alive(parent_pid):
-            time.sleep(interval_s)
-        os._exit(1)
-
-    threading.Thread(target=watch, daemon=True, name="watch-parent").start()
-
-
 def _manifest(config: SynthConfig, seed: int, scenes: list[str]) -> dict:
     settings = asdict(config)
     settings["sequence_counts"] = {k: list(v) for k, v in config.sequence_counts.items()}
@@ -568,16 +551,6 @@ def _foreign_dataset(root: Path) -> bool:
         and any(entry.name != LOCK_FILE for entry in root.iterdir())
         and not (root / STANDIN_MANIFEST).exists()
     )
-
-
-def _process_alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:  # alive, owned by someone else
-        return True
-    return True
 
 
 @contextmanager
@@ -603,7 +576,7 @@ def render_lock(root: Path) -> Iterator[None]:
         except FileExistsError:
             text = lock.read_text().strip() if lock.exists() else ""
             holder = int(text) if text.isdigit() else None
-            if holder is None or _process_alive(holder):
+            if holder is None or process_alive(holder):
                 raise ValueError(
                     f"{lock}: another synth (PID {holder or 'unknown'}) is rendering into "
                     f"{root}; wait for it, or delete the lock if that process is gone"
@@ -794,6 +767,6 @@ def _render(
         else:
             method = "forkserver" if sys.platform.startswith("linux") else "spawn"
             context = multiprocessing.get_context(method)
-            with context.Pool(workers, _watch_parent, (os.getpid(),)) as pool:
+            with context.Pool(workers, watch_parent, (os.getpid(),)) as pool:
                 for frames in pool.imap_unordered(_render_job, jobs):
                     bar.update(frames)

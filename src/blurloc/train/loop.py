@@ -21,6 +21,7 @@ from pathlib import Path
 import torch
 
 from ..inference import checkpoint_kind, load_checkpoint
+from ..processes import watch_parent
 
 #: Fraction of every training sequence held out (at its end) for validation.
 VALIDATION_FRACTION = 0.15
@@ -283,9 +284,16 @@ def parallel_map(
     return _pooled(function, jobs, workers, chunksize)
 
 
+def _start_worker(parent_pid: int) -> None:
+    """Initializer of :func:`parallel_map`'s workers: one PyTorch thread, and an end with the
+    parent (:func:`~blurloc.processes.watch_parent`)."""
+    torch.set_num_threads(1)
+    watch_parent(parent_pid)
+
+
 def _pooled(function: Callable, jobs: Iterable, workers: int, chunksize: int) -> Iterator:
     """The results of :func:`parallel_map` from a pool that closes when they are consumed."""
     context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(workers, mp_context=context, initializer=torch.set_num_threads,
-                             initargs=(1,)) as pool:  # fmt: skip
+    with ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
+                             initargs=(os.getpid(),)) as pool:  # fmt: skip
         yield from pool.map(function, jobs, chunksize=chunksize)
