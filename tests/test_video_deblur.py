@@ -431,6 +431,10 @@ def test_photo_video_gains_score_every_photo_and_speed_against_the_input() -> No
     for photo in PHOTO_VIDEO_PHOTOS:  # faster pans blur more
         scores = [r["blurred_psnr_db"] for r in rows if r["photo"] == photo]
         assert scores == sorted(scores, reverse=True), (photo, scores)
+    clean = photo_video_gains(np.asarray, frames=2, noise_sigma=0.0)
+    assert all(
+        c["blurred_psnr_db"] > r["blurred_psnr_db"] for c, r in zip(clean, rows, strict=True)
+    )
 
 
 def test_the_shipped_network_does_not_drift_over_a_long_video(quick_root: Path) -> None:
