@@ -1,0 +1,80 @@
+"""The video network on 640x480 frames (7-Scenes' size), restored at their own size and
+downscaled to the 160x120 it was trained at.
+
+    blurloc synth --out data/standin-640 --scenes chess heads office --frames 30 --width 640 \
+        --height 480 --seed 2
+    python benchmarks/video_deblur_scales.py --root data/standin-640 [--checkpoint F]
+        [--widths 640 320 160] [--threads 2]
+
+The stand-in the network trains on is rendered at 160x120 with an exposure chosen so that its
+blur is, relative to the frame, as strong as in heavily blurred 7-Scenes frames at 640x480; a
+640x480 render of the same exposure carries four times the blur in pixels, with the same
+sensor noise per pixel. Downscaling by area averages that noise down too (by 4 at 160x120).
+For every test sequence of ``--root`` and every width of ``--widths`` (height three quarters of
+it; frames and sharp renders resized by area), the mean PSNR of the blurred frames and of the
+restored ones against the sharp renders, and the median blur (px at that width, from
+``blur.csv``); then the mean gain per width over the sequences.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+from pathlib import Path
+
+import cv2
+import numpy as np
+import torch
+
+from blurloc.data import list_scenes, load_split
+from blurloc.inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_sequence
+from blurloc.metrics import mean_frame_psnr
+
+
+def resized(video: np.ndarray, width: int) -> np.ndarray:
+    """``video`` (T, H, W, 3) resized by area to ``width`` x ``3 * width // 4``."""
+    if video.shape[2] == width:
+        return video
+    size = (width, 3 * width // 4)
+    return np.stack([cv2.resize(frame, size, interpolation=cv2.INTER_AREA) for frame in video])
+
+
+def median_blur_px(folder: Path, frames: int) -> float:
+    """Median of the recorded blur extent (``mean_px`` of ``blur.csv``) over the first frames."""
+    with open(folder / "blur.csv", newline="") as file:
+        extents = [float(row["mean_px"]) for row in csv.DictReader(file)]
+    return float(np.median(extents[:frames]))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--root", required=True, help="a stand-in rendered at 640x480")
+    parser.add_argument("--checkpoint", default=str(DEFAULT_CHECKPOINT))
+    parser.add_argument("--widths", nargs="+", type=int, default=[640, 320, 160])
+    parser.add_argument("--threads", type=int, default=2)
+    args = parser.parse_args()
+    torch.set_num_threads(args.threads)
+    model = load_video_deblur(args.checkpoint)
+    gains: dict[int, list[float]] = {width: [] for width in args.widths}
+    for scene in list_scenes(args.root):
+        for sequence in load_split(args.root, scene, "test"):
+            blurred, sharp = sequence.images(), sequence.images("sharp")
+            blur = median_blur_px(sequence.folder, len(sequence)) / blurred.shape[2]
+            for width in args.widths:
+                small_blurred, small_sharp = resized(blurred, width), resized(sharp, width)
+                restored = restore_sequence(model, small_blurred)
+                before = mean_frame_psnr([(small_blurred, small_sharp)])
+                after = mean_frame_psnr([(restored, small_sharp)])
+                gains[width].append(after - before)
+                print(f"{scene} sequence {sequence.number}, {width}x{3 * width // 4}: median blur "
+                      f"{blur * width:.1f} px, {before:.2f} -> {after:.2f} dB "
+                      f"({after - before:+.2f})")  # fmt: skip
+    for width, values in gains.items():
+        print(
+            f"{width}x{3 * width // 4}: gain mean {np.mean(values):+.2f} dB, min "
+            f"{min(values):+.2f}, max {max(values):+.2f} over {len(values)} sequences"
+        )
+
+
+if __name__ == "__main__":
+    main()
