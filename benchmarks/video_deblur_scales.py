@@ -12,21 +12,20 @@ blur is, relative to the frame, as strong as in heavily blurred 7-Scenes frames 
 sensor noise per pixel. Downscaling by area averages that noise down too (by 4 at 160x120).
 For every test sequence of ``--root`` and every width of ``--widths`` (height three quarters of
 it; frames and sharp renders resized by area), the mean PSNR of the blurred frames and of the
-restored ones against the sharp renders, and the median blur (px at that width, from
-``blur.csv``); then the mean gain per width over the sequences.
+restored ones against the sharp renders, and the median blur (px at that width, from the
+stand-in's blur records); then the mean gain per width over the sequences.
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
-from pathlib import Path
 
 import cv2
 import numpy as np
 import torch
 
 from blurloc.data import list_scenes, load_split
+from blurloc.data.stats import read_blur_metadata
 from blurloc.inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_sequence
 from blurloc.metrics import mean_frame_psnr
 
@@ -39,13 +38,6 @@ def resized(video: np.ndarray, width: int) -> np.ndarray:
     return np.stack([cv2.resize(frame, size, interpolation=cv2.INTER_AREA) for frame in video])
 
 
-def median_blur_px(folder: Path, frames: int) -> float:
-    """Median of the recorded blur extent (``mean_px`` of ``blur.csv``) over the first frames."""
-    with open(folder / "blur.csv", newline="") as file:
-        extents = [float(row["mean_px"]) for row in csv.DictReader(file)]
-    return float(np.median(extents[:frames]))
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", required=True, help="a stand-in rendered at 640x480")
@@ -56,10 +48,14 @@ def main() -> None:
     torch.set_num_threads(args.threads)
     model = load_video_deblur(args.checkpoint)
     gains: dict[int, list[float]] = {width: [] for width in args.widths}
+    blur_px: dict[tuple[str, int], list[float]] = {}  # recorded blur extent per test sequence
+    for row in read_blur_metadata(args.root):
+        if row["split"] == "test":
+            blur_px.setdefault((row["scene"], row["sequence"]), []).append(row["mean_px"])
     for scene in list_scenes(args.root):
         for sequence in load_split(args.root, scene, "test"):
             blurred, sharp = sequence.images(), sequence.images("sharp")
-            blur = median_blur_px(sequence.folder, len(sequence)) / blurred.shape[2]
+            blur = np.median(blur_px[scene, sequence.number]) / blurred.shape[2]
             for width in args.widths:
                 small_blurred, small_sharp = resized(blurred, width), resized(sharp, width)
                 restored = restore_sequence(model, small_blurred)
