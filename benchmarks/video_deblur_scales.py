@@ -20,22 +20,14 @@ from __future__ import annotations
 
 import argparse
 
-import cv2
 import numpy as np
 import torch
 
 from blurloc.data import list_scenes, load_split
 from blurloc.data.stats import read_blur_metadata
+from blurloc.experiments.photo_video import restoration_psnr
 from blurloc.inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_sequence
-from blurloc.metrics import mean_frame_psnr
-
-
-def resized(video: np.ndarray, width: int) -> np.ndarray:
-    """``video`` (T, H, W, 3) resized by area to ``width`` x ``3 * width // 4``."""
-    if video.shape[2] == width:
-        return video
-    size = (width, 3 * width // 4)
-    return np.stack([cv2.resize(frame, size, interpolation=cv2.INTER_AREA) for frame in video])
+from blurloc.train.datasets import resize_short_side
 
 
 def main() -> None:
@@ -57,10 +49,13 @@ def main() -> None:
             blurred, sharp = sequence.images(), sequence.images("sharp")
             blur = np.median(blur_px[scene, sequence.number]) / blurred.shape[2]
             for width in args.widths:
-                small_blurred, small_sharp = resized(blurred, width), resized(sharp, width)
-                restored = restore_sequence(model, small_blurred)
-                before = mean_frame_psnr([(small_blurred, small_sharp)])
-                after = mean_frame_psnr([(restored, small_sharp)])
+                small_blurred, small_sharp = (
+                    np.stack([resize_short_side(frame, 3 * width // 4) for frame in video])
+                    for video in (blurred, sharp)
+                )  # by area, as the pose network's input
+                before, after = restoration_psnr(
+                    lambda video: restore_sequence(model, video), small_blurred, small_sharp
+                )
                 gains[width].append(after - before)
                 print(f"{scene} sequence {sequence.number}, {width}x{3 * width // 4}: median blur "
                       f"{blur * width:.1f} px, {before:.2f} -> {after:.2f} dB "

@@ -109,8 +109,8 @@ def restoration_psnr(
     before, after : float
         Mean PSNR over the frames, dB, of ``blurred`` and of ``restore(blurred)``.
     """
-    before = mean_frame_psnr(list(zip(blurred, sharp, strict=True)))
-    after = mean_frame_psnr(list(zip(restore(blurred), sharp, strict=True)))
+    before = mean_frame_psnr([(blurred, sharp)])
+    after = mean_frame_psnr([(restore(blurred), sharp)])
     return before, after
 
 
