@@ -26,11 +26,12 @@ the blurred input on those pixels; printed: the mean, median and 10th-90th perce
 from __future__ import annotations
 
 import argparse
+from collections.abc import Iterable
 
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from blurloc.data import list_scenes, load_split
+from blurloc.data import SequenceFrames, list_scenes, load_split
 
 
 def neighbourhoods(frame: np.ndarray, size: int) -> np.ndarray:
@@ -54,6 +55,47 @@ def psnr_db(estimate: np.ndarray, truth: np.ndarray) -> float:
     return float(10 * np.log10(1 / np.mean((estimate - truth) ** 2)))
 
 
+def fit_global_filter(pairs: Iterable[tuple[np.ndarray, np.ndarray]], size: int) -> np.ndarray:
+    """The least-squares ``size`` x ``size`` filter (plus offset) that maps every blurred frame
+    of ``pairs`` ((blurred, sharp) frames in [0, 1]) to its sharp frame."""
+    normal, moment = 0.0, 0.0  # the normal equations
+    for blurred, sharp in pairs:
+        rows = neighbourhoods(blurred, size)
+        normal = normal + rows.T @ rows
+        moment = moment + rows.T @ interior(sharp, size)
+    return np.linalg.solve(normal, moment)
+
+
+def filter_gains(
+    pairs: Iterable[tuple[np.ndarray, np.ndarray]], global_filter: np.ndarray, size: int
+) -> dict[str, list[float]]:
+    """PSNR gains (dB) over the blurred input on the bottom half of each (blurred, sharp) frame
+    in [0, 1]: of ``global_filter``, and of a filter fitted to the frame's own top half (the
+    oracle). Frames equal to their sharp frame there are left out (an infinite PSNR)."""
+    gains: dict[str, list[float]] = {"global": [], "per frame": []}
+    for blurred, sharp in pairs:
+        rows, truth = neighbourhoods(blurred, size), interior(sharp, size)
+        height = blurred.shape[0] - 2 * (size // 2)
+        width = blurred.shape[1] - 2 * (size // 2)
+        top = np.tile(np.repeat(np.arange(height), width), 3) < height // 2
+        centre = interior(blurred, size)
+        if np.array_equal(centre[~top], truth[~top]):
+            continue
+        before = psnr_db(centre[~top], truth[~top])
+        own_filter, *_ = np.linalg.lstsq(rows[top], truth[top], rcond=None)
+        for name, weights in (("global", global_filter), ("per frame", own_filter)):
+            gains[name].append(psnr_db(rows[~top] @ weights, truth[~top]) - before)
+    return gains
+
+
+def print_gains(gains: dict[str, list[float]]) -> None:
+    """The mean, median and 10th-90th percentiles of each filter's gains."""
+    for name, values in gains.items():
+        low, middle, high = np.percentile(values, [10, 50, 90])
+        print(f"  {name:9s} mean {np.mean(values):+.2f} dB, median {middle:+.2f}, "
+              f"10th-90th percentile {low:+.2f} to {high:+.2f}")  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", required=True, help="a stand-in (best rendered with --noise 0)")
@@ -62,42 +104,21 @@ def main() -> None:
     parser.add_argument("--every", type=int, default=5, help="score every n-th of them")
     args = parser.parse_args()
     scenes = list_scenes(args.root)
-
-    normal, moment = 0.0, 0.0  # the global filter's normal equations
-    for scene in scenes:
-        for sequence in load_split(args.root, scene, "train"):
-            part = sequence.first(170)
-            pairs = zip(part.images()[::10] / 255, part.images("sharp")[::10] / 255, strict=True)
-            for blurred, sharp in pairs:
-                rows = neighbourhoods(blurred, args.size)
-                normal = normal + rows.T @ rows
-                moment = moment + rows.T @ interior(sharp, args.size)
-    global_filter = np.linalg.solve(normal, moment)
-
-    gains: dict[str, list[float]] = {"global": [], "per frame": []}
-    for scene in scenes:
-        for sequence in load_split(args.root, scene, "test"):
-            part = sequence.first(args.frames)
-            pairs = zip(part.images()[:: args.every] / 255,
-                        part.images("sharp")[:: args.every] / 255, strict=True)  # fmt: skip
-            for blurred, sharp in pairs:
-                rows, truth = neighbourhoods(blurred, args.size), interior(sharp, args.size)
-                height = blurred.shape[0] - 2 * (args.size // 2)
-                width = blurred.shape[1] - 2 * (args.size // 2)
-                top = np.tile(np.repeat(np.arange(height), width), 3) < height // 2
-                centre = interior(blurred, args.size)
-                if np.array_equal(centre[~top], truth[~top]):
-                    continue  # no blur: an infinite PSNR
-                before = psnr_db(centre[~top], truth[~top])
-                own_filter, *_ = np.linalg.lstsq(rows[top], truth[top], rcond=None)
-                for name, weights in (("global", global_filter), ("per frame", own_filter)):
-                    gains[name].append(psnr_db(rows[~top] @ weights, truth[~top]) - before)
+    training = (pair for scene in scenes for sequence in load_split(args.root, scene, "train")
+                for pair in frame_pairs(sequence.first(170), every=10))  # fmt: skip
+    global_filter = fit_global_filter(training, args.size)
+    test = (pair for scene in scenes for sequence in load_split(args.root, scene, "test")
+            for pair in frame_pairs(sequence.first(args.frames), every=args.every))  # fmt: skip
+    gains = filter_gains(test, global_filter, args.size)
     print(f"{args.root}: {args.size} x {args.size} linear filters, bottom halves of "
           f"{len(gains['global'])} test frames; PSNR gain over the blurred input:")  # fmt: skip
-    for name, values in gains.items():
-        low, middle, high = np.percentile(values, [10, 50, 90])
-        print(f"  {name:9s} mean {np.mean(values):+.2f} dB, median {middle:+.2f}, "
-              f"10th-90th percentile {low:+.2f} to {high:+.2f}")  # fmt: skip
+    print_gains(gains)
+
+
+def frame_pairs(sequence: SequenceFrames, every: int) -> Iterable[tuple[np.ndarray, np.ndarray]]:
+    """Every ``every``-th (blurred, sharp) frame of ``sequence``, in [0, 1]."""
+    return zip(sequence.images()[::every] / 255, sequence.images("sharp")[::every] / 255,
+               strict=True)  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -1,0 +1,196 @@
+"""Is finding each frame's blur what the video network lacks? The network trained and scored on
+the stand-in's sharp frames blurred by one line for every frame, by each frame's own recorded
+line, and by the render's own camera blur, all without sensor noise.
+
+    blurloc synth --out data/standin-noise0 --frames 200 --noise 0
+    python benchmarks/deblur_known_blur.py --root data/standin-noise0 [--seeds 0 1 2]
+        [--steps 1200] [--frames 100] [--out build/known_blur] [--workers 2]
+
+On a stand-in rendered without noise (see ``train_without_noise.py``), the full network of
+notebook 03 gains about as much as one linear filter for all frames, while a filter fitted to
+each frame's own blur gains far more. Three blurs of the same sharp frames tell apart what the
+network lacks:
+
+- ``rendered``: the render's blurred frames (the camera's motion over the exposure: its path,
+  varying across the frame with depth and position, averaged in linear light), the task the
+  network fails at;
+- ``recorded lines``: each sharp frame convolved with a straight line of its frame's recorded
+  blur (``blur.csv``: the mean path length and the dominant direction), uniform over the frame,
+  so that the frame-to-frame changes of length and direction remain and the rest goes;
+- ``one line``: every sharp frame convolved with one horizontal line of the median recorded
+  length of the training frames (horizontal: the trainer's mirror flips leave it unchanged), a
+  blur the network never has to find.
+
+The line blurs are applied to the 8-bit sharp frames (eq. 1 without noise, mirrored borders)
+and rounded back to 8 bits. Every arm trains the same network (``VideoTrainConfig`` with
+``--steps`` steps, validated every 100 on the last 15 % of one training sequence per scene,
+in ``--workers`` one-thread processes) once per seed, and is scored on the first ``--frames``
+frames of every test sequence under its own blur (mean of the per-scene means; frames that
+equal their sharp frame under any blur are left out of all). Printed: each arm's gain per
+seed, the paired differences ``recorded lines - rendered`` and ``one line - recorded lines``
+with 95 % t-intervals, and for every blur the gains of two 9 x 9 linear filters (one learned
+on the arm's training frames, one fitted to each test frame's own top half: see
+``linear_deblur_bounds.py``).
+
+Finished trainings in ``--out`` are reused (``train_without_noise.py``'s ``clean-seed<n>``
+runs are the ``rendered`` arm's: copy them to ``rendered-seed<n>``); one made with other
+settings is refused.
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from linear_deblur_bounds import filter_gains, fit_global_filter, print_gains
+
+from blurloc.blur import blur_image, motion_kernel
+from blurloc.data import SequenceFrames, list_scenes, load_split
+from blurloc.data.stats import read_blur_metadata
+from blurloc.experiments.deblurring import per_scene_means
+from blurloc.experiments.video_ablation import INTERVAL_COLUMNS, ablation_intervals
+from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
+from blurloc.metrics import psnr
+from blurloc.models.video_deblur import VideoDeblurNet, parameter_count
+from blurloc.tables import save_table
+from blurloc.train.config import VideoTrainConfig
+from blurloc.train.loop import parallel_map, validation_cut
+from blurloc.train.video import Video, train_video_deblur
+
+BLURS = ("rendered", "recorded lines", "one line")
+
+
+@functools.cache
+def blurred_videos(root: str, blur: str, test_frames: int | None) -> dict[str, list]:
+    """The stand-in's videos under one of :data:`BLURS`, split as the video trainer splits them.
+
+    ``train`` (each training sequence before its validation part) and ``validation`` (the
+    validation part of the first training sequence of each scene) hold (blurred, sharp) uint8
+    videos; ``test`` holds (scene, (blurred, sharp)) for the first ``test_frames`` frames of
+    every test sequence (none when ``test_frames`` is None). Read once per process.
+    """
+    records = {(r["scene"], r["sequence"], r["frame"]): r for r in read_blur_metadata(root)}
+    one_line = motion_kernel(float(np.median([r["mean_px"] for r in records.values()
+                                              if r["split"] == "train"])), 0.0)  # fmt: skip
+
+    def video(scene: str, sequence: SequenceFrames, frames: tuple[int, ...]) -> Video:
+        sharp = sequence.images("sharp", frames)
+        if blur == "rendered":
+            return sequence.images("color", frames), sharp
+        kernels = [one_line if blur == "one line" else
+                   motion_kernel(records[(scene, sequence.number, frame)]["mean_px"],
+                                 records[(scene, sequence.number, frame)]["angle_deg"])
+                   for frame in frames]  # fmt: skip
+        blurred = [np.clip(np.rint(255 * blur_image(image, kernel)), 0, 255)
+                   for image, kernel in zip(sharp, kernels, strict=True)]  # fmt: skip
+        return np.stack(blurred).astype(np.uint8), sharp
+
+    splits: dict[str, list] = {"train": [], "validation": [], "test": []}
+    for scene in list_scenes(root):
+        for number, sequence in enumerate(load_split(root, scene, "train")):
+            frames = sequence.frame_ids
+            cut = len(frames) - validation_cut(len(frames))
+            splits["train"].append(video(scene, sequence, frames[:cut]))
+            if number == 0:
+                splits["validation"].append(video(scene, sequence, frames[cut:]))
+        if test_frames is not None:
+            splits["test"] += [(scene, video(scene, sequence, sequence.frame_ids[:test_frames]))
+                               for sequence in load_split(root, scene, "test")]  # fmt: skip
+    return splits
+
+
+def train_one(job: tuple) -> Path:
+    """Train (or reuse) one arm's network for one seed; returns its ``best.pt``."""
+    root, blur, config, folder = job
+    train_video_deblur(blurred_videos(root, blur, None), folder, config, progress=False)
+    return folder / "best.pt"
+
+
+def score_one(job: tuple) -> list[dict]:
+    """Per-frame PSNR rows of one network (or of the blurred input, ``checkpoint`` None) on one
+    arm's test videos."""
+    root, blur, frames, method, checkpoint = job
+    restore = np.asarray if checkpoint is None else VideoRestorer(checkpoint)
+    rows = []
+    for scene, (blurred, sharp) in blurred_videos(root, blur, frames)["test"]:
+        restored = restore(blurred)
+        rows += [{"blur": blur, "method": method, "scene": scene, "index": len(rows) + k,
+                  "psnr_db": psnr(truth, frame, 255.0)}
+                 for k, (frame, truth) in enumerate(zip(restored, sharp, strict=True))]  # fmt: skip
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--root", required=True, help="a stand-in rendered with --noise 0")
+    parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
+    parser.add_argument("--steps", type=int, default=1200)
+    parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
+    parser.add_argument("--out", default="build/known_blur")
+    parser.add_argument("--workers", type=int, default=2, help="processes that work at once")
+    args = parser.parse_args()
+    if len(args.seeds) < 2:
+        parser.error("--seeds: at least two, for a paired interval")
+
+    budget = VideoTrainConfig(steps=args.steps, validate_every=100, threads=1)
+    jobs = [(args.root, blur, replace(budget, seed=seed),
+             Path(args.out) / f"{blur.replace(' ', '_')}-seed{seed}")
+            for blur in BLURS for seed in args.seeds]  # fmt: skip
+    started = time.perf_counter()
+    checkpoints = list(parallel_map(train_one, jobs, args.workers))
+    seconds = time.perf_counter() - started
+    scoring = [(args.root, blur, args.frames, "blurred", None) for blur in BLURS]
+    scoring += [(args.root, blur, args.frames, "shipped", DEFAULT_CHECKPOINT) for blur in BLURS]
+    scoring += [(args.root, job[1], args.frames, f"seed{job[2].seed}", checkpoint)
+                for job, checkpoint in zip(jobs, checkpoints, strict=True)]  # fmt: skip
+    rows = [row for rows in parallel_map(score_one, scoring, args.workers) for row in rows]
+    unblurred = {row["index"] for row in rows
+                 if row["method"] == "blurred" and np.isinf(row["psnr_db"])}  # fmt: skip
+    print(f"{len(unblurred)} test frames left out: under some blur they equal their sharp frame")
+    gains: dict[str, dict[int, float]] = {}
+    for blur in BLURS:
+        means = {method: value["mean"] for method, value in per_scene_means(
+            [row for row in rows if row["blur"] == blur and row["index"] not in unblurred],
+            "psnr_db").items()}  # fmt: skip
+        gains[blur] = {seed: means[f"seed{seed}"] - means["blurred"] for seed in args.seeds}
+        print(f"\n{blur}: blurred input {means['blurred']:.2f} dB; shipped checkpoint "
+              f"{means['shipped'] - means['blurred']:+.2f} dB; trained "
+              + ", ".join(f"seed {s}: {g:+.2f} dB" for s, g in gains[blur].items()))  # fmt: skip
+    parameters = dict.fromkeys(BLURS, parameter_count(VideoDeblurNet()))
+    for reference, other in (("rendered", "recorded lines"), ("recorded lines", "one line")):
+        intervals = ablation_intervals({name: gains[name] for name in (reference, other)},
+                                       parameters, reference=reference,
+                                       below=f"gains less than under {reference}",
+                                       above=f"gains more than under {reference}")  # fmt: skip
+        table = [{key: round(value, 3) if isinstance(value, float) else value
+                  for key, value in row.items()} for row in intervals]  # fmt: skip
+        name = f"known_blur_{other.replace(' ', '_')}_vs_{reference.replace(' ', '_')}"
+        markdown, _ = save_table(table, args.out, name, INTERVAL_COLUMNS,
+                                 caption=f"{other} vs {reference} (measured)")  # fmt: skip
+        print(markdown.read_text())
+    print(f"({seconds:.0f} s of training; steps {args.steps}, seeds {args.seeds}, first "
+          f"{args.frames} frames of every test sequence)")  # fmt: skip
+    for blur in BLURS:
+        videos = blurred_videos(args.root, blur, args.frames)
+        training = (
+            (blurred / 255, sharp / 255)
+            for pair in videos["train"]
+            for blurred, sharp in zip(*(part[:170:10] for part in pair), strict=True)
+        )
+        test = (
+            (blurred / 255, sharp / 255)
+            for _, pair in videos["test"]
+            for blurred, sharp in zip(*(part[::5] for part in pair), strict=True)
+        )
+        gains_linear = filter_gains(test, fit_global_filter(training, 9), 9)
+        print(f"{blur}: 9 x 9 linear filters, bottom halves of {len(gains_linear['global'])} "
+              f"test frames:")  # fmt: skip
+        print_gains(gains_linear)
+
+
+if __name__ == "__main__":
+    main()
