@@ -1,22 +1,26 @@
-"""Is finding each frame's blur what the video network lacks? The network trained and scored on
-the stand-in's sharp frames blurred by one line for every frame, by each frame's own recorded
-line, and by the render's own camera blur, all without sensor noise.
+"""What does the video network lack on the stand-in's blur? The network trained and scored on
+the stand-in's sharp frames under four blurs, from the render's own camera blur to one line for
+every frame, all without sensor noise.
 
     blurloc synth --out data/standin-noise0 --frames 200 --noise 0
-    python benchmarks/deblur_known_blur.py --root data/standin-noise0 [--seeds 0 1 2]
+    python benchmarks/deblur_known_blur.py --root data/standin-noise0 [--seeds 0 1 2 3]
         [--steps 1200] [--frames 100] [--out build/known_blur] [--workers 2]
 
 On a stand-in rendered without noise (see ``train_without_noise.py``), the full network of
 notebook 03 gains about as much as one linear filter for all frames, while a filter fitted to
-each frame's own blur gains far more. Three blurs of the same sharp frames tell apart what the
-network lacks:
+each frame's own blur gains far more. Four blurs of the same sharp frames, each one step
+simpler than the one before, tell apart what the network lacks:
 
-- ``rendered``: the render's blurred frames (the camera's motion over the exposure: its path,
-  varying across the frame with depth and position, averaged in linear light), the task the
-  network fails at;
+- ``rendered``: the render's blurred frames, the task the network fails at. Each is the
+  average of a few renders along the camera's path over the exposure (:func:`~blurloc.data.
+  synth.render_exposure`): every render rasterises the scene's edges and picks its texture
+  detail anew, and surfaces hidden at mid-exposure may show;
+- ``warped``: the same camera blur made from the sharp frame alone (:func:`warped_blur`): it
+  varies across the frame with depth and position as the render's does, but it is a linear
+  function of the sharp frame's pixels;
 - ``recorded lines``: each sharp frame convolved with a straight line of its frame's recorded
-  blur (``blur.csv``: the mean path length and the dominant direction), uniform over the frame,
-  so that the frame-to-frame changes of length and direction remain and the rest goes;
+  blur (``blur.csv``: the mean path length and the dominant direction), uniform over the frame:
+  the frame-to-frame changes of length and direction remain;
 - ``one line``: every sharp frame convolved with one horizontal line of the median recorded
   length of the training frames (horizontal: the trainer's mirror flips leave it unchanged), a
   blur the network never has to find.
@@ -27,10 +31,9 @@ and rounded back to 8 bits. Every arm trains the same network (``VideoTrainConfi
 in ``--workers`` one-thread processes) once per seed, and is scored on the first ``--frames``
 frames of every test sequence under its own blur (mean of the per-scene means; frames that
 equal their sharp frame under any blur are left out of all). Printed: each arm's gain per
-seed, the paired differences ``recorded lines - rendered`` and ``one line - recorded lines``
-with 95 % t-intervals, and for every blur the gains of two 9 x 9 linear filters (one learned
-on the arm's training frames, one fitted to each test frame's own top half: see
-``linear_deblur_bounds.py``).
+seed, the paired difference of each arm to the one before with its 95 % t-interval, and for
+every blur the gains of two 9 x 9 linear filters (one learned on the arm's training frames,
+one fitted to each test frame's own top half: see ``linear_deblur_bounds.py``).
 
 Finished trainings in ``--out`` are reused (``train_without_noise.py``'s ``clean-seed<n>``
 runs are the ``rendered`` arm's: copy them to ``rendered-seed<n>``); one made with other
@@ -41,18 +44,27 @@ from __future__ import annotations
 
 import argparse
 import functools
+import itertools
 import time
 from dataclasses import replace
 from pathlib import Path
 
+import cv2
 import numpy as np
 from linear_deblur_bounds import filter_gains, fit_global_filter, print_gains
+from scipy.ndimage import map_coordinates
 
 from blurloc.blur import blur_image, motion_kernel
 from blurloc.data import SequenceFrames, list_scenes, load_split
+from blurloc.data.render import Scene
+from blurloc.data.sevenscenes import read_depth
 from blurloc.data.stats import read_blur_metadata
+from blurloc.data.synth import HandheldTrajectory, SynthConfig, exposure_tracks, sequence_trajectory
 from blurloc.experiments.deblurring import per_scene_means
 from blurloc.experiments.video_ablation import INTERVAL_COLUMNS, ablation_intervals
+from blurloc.experiments.wiener_oracles import standin_settings
+from blurloc.geometry import intrinsics
+from blurloc.images import as_float_image, linear_to_srgb, srgb_to_linear
 from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
 from blurloc.metrics import psnr
 from blurloc.models.video_deblur import VideoDeblurNet, parameter_count
@@ -61,7 +73,10 @@ from blurloc.train.config import VideoTrainConfig
 from blurloc.train.loop import parallel_map, validation_cut
 from blurloc.train.video import Video, train_video_deblur
 
-BLURS = ("rendered", "recorded lines", "one line")
+BLURS = ("rendered", "warped", "recorded lines", "one line")
+
+#: Instants over the exposure at which :func:`warped_blur` moves the sharp frame.
+WARP_SAMPLES = 9
 
 
 @functools.cache
@@ -74,6 +89,7 @@ def blurred_videos(root: str, blur: str, test_frames: int | None) -> dict[str, l
     every test sequence (none when ``test_frames`` is None). Read once per process.
     """
     records = {(r["scene"], r["sequence"], r["frame"]): r for r in read_blur_metadata(root)}
+    config, seed = standin_settings(root)
     one_line = motion_kernel(float(np.median([r["mean_px"] for r in records.values()
                                               if r["split"] == "train"])), 0.0)  # fmt: skip
 
@@ -81,6 +97,12 @@ def blurred_videos(root: str, blur: str, test_frames: int | None) -> dict[str, l
         sharp = sequence.images("sharp", frames)
         if blur == "rendered":
             return sequence.images("color", frames), sharp
+        if blur == "warped":
+            world, trajectory = sequence_trajectory(scene, sequence.number, config, seed)
+            blurred = [warped_blur(image, read_depth(sequence.path(frame, "depth")), world,
+                                   trajectory, frame / config.fps, config)
+                       for frame, image in zip(frames, sharp, strict=True)]  # fmt: skip
+            return np.stack(blurred), sharp
         kernels = [one_line if blur == "one line" else
                    motion_kernel(records[(scene, sequence.number, frame)]["mean_px"],
                                  records[(scene, sequence.number, frame)]["angle_deg"])
@@ -101,6 +123,46 @@ def blurred_videos(root: str, blur: str, test_frames: int | None) -> dict[str, l
             splits["test"] += [(scene, video(scene, sequence, sequence.frame_ids[:test_frames]))
                                for sequence in load_split(root, scene, "test")]  # fmt: skip
     return splits
+
+
+def warped_blur(
+    sharp: np.ndarray,
+    depth: np.ndarray,
+    world: Scene,
+    trajectory: HandheldTrajectory,
+    time_s: float,
+    config: SynthConfig,
+) -> np.ndarray:
+    """The camera's blur of one frame made from its sharp render alone: the sharp frame moved
+    by each pixel's own image motion at :data:`WARP_SAMPLES` instants over the exposure and
+    averaged in linear light.
+
+    The motion is that of the scene points seen on a grid at mid-exposure
+    (:func:`~blurloc.data.synth.exposure_tracks`, from the frame's depth and the camera's
+    path), interpolated to every pixel; the frame seen at an instant is the sharp frame
+    sampled (bilinearly, mirrored at the borders) where each pixel's point was at mid-exposure.
+    So the blur varies over the frame with depth and position as the render's does, but it is
+    a linear function of the sharp frame's pixels: nothing is seen that the sharp frame does
+    not show (no surface uncovered, no edge rasterised anew).
+    """
+    height, width = depth.shape
+    surface = np.where(depth > 0, depth, np.median(depth[depth > 0]))
+    camera = intrinsics(config.width, config.height)
+    tracks = exposure_tracks(world, trajectory, time_s, config, camera, surface,
+                             samples=WARP_SAMPLES)  # fmt: skip
+    step = max(1, min(width, height) // 16)  # exposure_tracks' grid
+    rows, columns = len(range(step // 2, height, step)), len(range(step // 2, width, step))
+    motion = (tracks - tracks[WARP_SAMPLES // 2]).reshape(WARP_SAMPLES, rows, columns, 2)
+    y, x = np.mgrid[0:height, 0:width].astype(np.float32)
+    grid = [(y - step // 2) / step, (x - step // 2) / step]
+    light = srgb_to_linear(as_float_image(sharp)).astype(np.float32)
+    total = np.zeros_like(light)
+    for moved in motion:
+        dx, dy = (map_coordinates(moved[..., axis], grid, order=1, mode="nearest")
+                  for axis in (0, 1))  # fmt: skip
+        total += cv2.remap(light, (x - dx).astype(np.float32), (y - dy).astype(np.float32),
+                           cv2.INTER_LINEAR, borderMode=cv2.BORDER_REFLECT_101)  # fmt: skip
+    return np.clip(np.rint(255 * linear_to_srgb(total / WARP_SAMPLES)), 0, 255).astype(np.uint8)
 
 
 def train_one(job: tuple) -> Path:
@@ -127,7 +189,7 @@ def score_one(job: tuple) -> list[dict]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", required=True, help="a stand-in rendered with --noise 0")
-    parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
+    parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2, 3])
     parser.add_argument("--steps", type=int, default=1200)
     parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
     parser.add_argument("--out", default="build/known_blur")
@@ -161,7 +223,7 @@ def main() -> None:
               f"{means['shipped'] - means['blurred']:+.2f} dB; trained "
               + ", ".join(f"seed {s}: {g:+.2f} dB" for s, g in gains[blur].items()))  # fmt: skip
     parameters = dict.fromkeys(BLURS, parameter_count(VideoDeblurNet()))
-    for reference, other in (("rendered", "recorded lines"), ("recorded lines", "one line")):
+    for reference, other in itertools.pairwise(BLURS):  # each arm to the one before
         intervals = ablation_intervals({name: gains[name] for name in (reference, other)},
                                        parameters, reference=reference,
                                        below=f"gains less than under {reference}",
