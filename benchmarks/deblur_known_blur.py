@@ -75,9 +75,6 @@ from blurloc.train.video import Video, train_video_deblur
 
 BLURS = ("rendered", "warped", "recorded lines", "one line")
 
-#: Instants over the exposure at which :func:`warped_blur` moves the sharp frame.
-WARP_SAMPLES = 9
-
 
 @functools.cache
 def blurred_videos(root: str, blur: str, test_frames: int | None) -> dict[str, list]:
@@ -100,7 +97,8 @@ def blurred_videos(root: str, blur: str, test_frames: int | None) -> dict[str, l
         if blur == "warped":
             world, trajectory = sequence_trajectory(scene, sequence.number, config, seed)
             blurred = [warped_blur(image, read_depth(sequence.path(frame, "depth")), world,
-                                   trajectory, frame / config.fps, config)
+                                   trajectory, frame / config.fps, config,
+                                   records[(scene, sequence.number, frame)]["samples"])
                        for frame, image in zip(frames, sharp, strict=True)]  # fmt: skip
             return np.stack(blurred), sharp
         kernels = [one_line if blur == "one line" else
@@ -132,27 +130,30 @@ def warped_blur(
     trajectory: HandheldTrajectory,
     time_s: float,
     config: SynthConfig,
+    samples: int,
 ) -> np.ndarray:
     """The camera's blur of one frame made from its sharp render alone: the sharp frame moved
-    by each pixel's own image motion at :data:`WARP_SAMPLES` instants over the exposure and
-    averaged in linear light.
+    by each pixel's own image motion at the render's ``samples`` instants of the exposure
+    (:func:`~blurloc.data.synth.render_exposure`'s midpoint rule) and averaged in linear light.
 
     The motion is that of the scene points seen on a grid at mid-exposure
     (:func:`~blurloc.data.synth.exposure_tracks`, from the frame's depth and the camera's
     path), interpolated to every pixel; the frame seen at an instant is the sharp frame
     sampled (bilinearly, mirrored at the borders) where each pixel's point was at mid-exposure.
-    So the blur varies over the frame with depth and position as the render's does, but it is
-    a linear function of the sharp frame's pixels: nothing is seen that the sharp frame does
-    not show (no surface uncovered, no edge rasterised anew).
+    So the blur varies over the frame with depth and position as the render's does, at the
+    same instants, but it is a linear function of the sharp frame's pixels: nothing is seen
+    that the sharp frame does not show (no surface uncovered, no edge rasterised anew, no
+    texture detail chosen anew).
     """
     height, width = depth.shape
     surface = np.where(depth > 0, depth, np.median(depth[depth > 0]))
     camera = intrinsics(config.width, config.height)
-    tracks = exposure_tracks(world, trajectory, time_s, config, camera, surface,
-                             samples=WARP_SAMPLES)  # fmt: skip
+    # the midpoint rule's instants: evenly spaced over (samples - 1) / samples of the exposure
+    span = replace(config, blur_strength=config.blur_strength * (samples - 1) / samples)
+    tracks = exposure_tracks(world, trajectory, time_s, span, camera, surface, samples=samples)
     step = max(1, min(width, height) // 16)  # exposure_tracks' grid
     rows, columns = len(range(step // 2, height, step)), len(range(step // 2, width, step))
-    motion = (tracks - tracks[WARP_SAMPLES // 2]).reshape(WARP_SAMPLES, rows, columns, 2)
+    motion = (tracks - tracks[samples // 2]).reshape(samples, rows, columns, 2)
     y, x = np.mgrid[0:height, 0:width].astype(np.float32)
     grid = [(y - step // 2) / step, (x - step // 2) / step]
     light = srgb_to_linear(as_float_image(sharp)).astype(np.float32)
@@ -162,7 +163,7 @@ def warped_blur(
                   for axis in (0, 1))  # fmt: skip
         total += cv2.remap(light, (x - dx).astype(np.float32), (y - dy).astype(np.float32),
                            cv2.INTER_LINEAR, borderMode=cv2.BORDER_REFLECT_101)  # fmt: skip
-    return np.clip(np.rint(255 * linear_to_srgb(total / WARP_SAMPLES)), 0, 255).astype(np.uint8)
+    return np.clip(np.rint(255 * linear_to_srgb(total / samples)), 0, 255).astype(np.uint8)
 
 
 def train_one(job: tuple) -> Path:
