@@ -46,6 +46,7 @@ import argparse
 import functools
 import itertools
 import time
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 
@@ -76,15 +77,9 @@ from blurloc.train.video import Video, train_video_deblur
 BLURS = ("rendered", "warped", "recorded lines", "one line")
 
 
-@functools.cache
-def blurred_videos(root: str, blur: str, test_frames: int | None) -> dict[str, list]:
-    """The stand-in's videos under one of :data:`BLURS`, split as the video trainer splits them.
-
-    ``train`` (each training sequence before its validation part) and ``validation`` (the
-    validation part of the first training sequence of each scene) hold (blurred, sharp) uint8
-    videos; ``test`` holds (scene, (blurred, sharp)) for the first ``test_frames`` frames of
-    every test sequence (none when ``test_frames`` is None). Read once per process.
-    """
+def blur_maker(root: str, blur: str) -> Callable[[str, SequenceFrames, tuple[int, ...]], Video]:
+    """A function of (scene, sequence, frame ids) giving those frames' (blurred, sharp) uint8
+    video under one of :data:`BLURS`."""
     records = {(r["scene"], r["sequence"], r["frame"]): r for r in read_blur_metadata(root)}
     config, seed = standin_settings(root)
     one_line = motion_kernel(float(np.median([r["mean_px"] for r in records.values()
@@ -109,7 +104,17 @@ def blurred_videos(root: str, blur: str, test_frames: int | None) -> dict[str, l
                    for image, kernel in zip(sharp, kernels, strict=True)]  # fmt: skip
         return np.stack(blurred).astype(np.uint8), sharp
 
-    splits: dict[str, list] = {"train": [], "validation": [], "test": []}
+    return video
+
+
+@functools.cache
+def training_videos(root: str, blur: str) -> dict[str, list[Video]]:
+    """The stand-in's training videos under one of :data:`BLURS`, split as the video trainer
+    splits them: ``train`` (each training sequence before its validation part) and
+    ``validation`` (the validation part of the first training sequence of each scene). Read
+    once per process."""
+    video = blur_maker(root, blur)
+    splits: dict[str, list[Video]] = {"train": [], "validation": []}
     for scene in list_scenes(root):
         for number, sequence in enumerate(load_split(root, scene, "train")):
             frames = sequence.frame_ids
@@ -117,10 +122,17 @@ def blurred_videos(root: str, blur: str, test_frames: int | None) -> dict[str, l
             splits["train"].append(video(scene, sequence, frames[:cut]))
             if number == 0:
                 splits["validation"].append(video(scene, sequence, frames[cut:]))
-        if test_frames is not None:
-            splits["test"] += [(scene, video(scene, sequence, sequence.frame_ids[:test_frames]))
-                               for sequence in load_split(root, scene, "test")]  # fmt: skip
     return splits
+
+
+@functools.cache
+def test_videos(root: str, blur: str, frames: int) -> list[tuple[str, Video]]:
+    """(scene, (blurred, sharp)) for the first ``frames`` frames of every test sequence under one
+    of :data:`BLURS`. Read once per process."""
+    video = blur_maker(root, blur)
+    return [(scene, video(scene, sequence, sequence.frame_ids[:frames]))
+            for scene in list_scenes(root)
+            for sequence in load_split(root, scene, "test")]  # fmt: skip
 
 
 def warped_blur(
@@ -148,10 +160,11 @@ def warped_blur(
     height, width = depth.shape
     surface = np.where(depth > 0, depth, np.median(depth[depth > 0]))
     camera = intrinsics(config.width, config.height)
+    step = max(1, min(width, height) // 16)  # a grid point every 7 px at 160x120
     # the midpoint rule's instants: evenly spaced over (samples - 1) / samples of the exposure
     span = replace(config, blur_strength=config.blur_strength * (samples - 1) / samples)
-    tracks = exposure_tracks(world, trajectory, time_s, span, camera, surface, samples=samples)
-    step = max(1, min(width, height) // 16)  # exposure_tracks' grid
+    tracks = exposure_tracks(world, trajectory, time_s, span, camera, surface, grid_step=step,
+                             samples=samples)  # fmt: skip
     rows, columns = len(range(step // 2, height, step)), len(range(step // 2, width, step))
     motion = (tracks - tracks[samples // 2]).reshape(samples, rows, columns, 2)
     y, x = np.mgrid[0:height, 0:width].astype(np.float32)
@@ -169,7 +182,7 @@ def warped_blur(
 def train_one(job: tuple) -> Path:
     """Train (or reuse) one arm's network for one seed; returns its ``best.pt``."""
     root, blur, config, folder = job
-    train_video_deblur(blurred_videos(root, blur, None), folder, config, progress=False)
+    train_video_deblur(training_videos(root, blur), folder, config, progress=False)
     return folder / "best.pt"
 
 
@@ -179,7 +192,7 @@ def score_one(job: tuple) -> list[dict]:
     root, blur, frames, method, checkpoint = job
     restore = np.asarray if checkpoint is None else VideoRestorer(checkpoint)
     rows = []
-    for scene, (blurred, sharp) in blurred_videos(root, blur, frames)["test"]:
+    for scene, (blurred, sharp) in test_videos(root, blur, frames):
         restored = restore(blurred)
         rows += [{"blur": blur, "method": method, "scene": scene, "index": len(rows) + k,
                   "psnr_db": psnr(truth, frame, 255.0)}
@@ -238,15 +251,14 @@ def main() -> None:
     print(f"({seconds:.0f} s of training; steps {args.steps}, seeds {args.seeds}, first "
           f"{args.frames} frames of every test sequence)")  # fmt: skip
     for blur in BLURS:
-        videos = blurred_videos(args.root, blur, args.frames)
         training = (
             (blurred / 255, sharp / 255)
-            for pair in videos["train"]
+            for pair in training_videos(args.root, blur)["train"]
             for blurred, sharp in zip(*(part[:170:10] for part in pair), strict=True)
         )
         test = (
             (blurred / 255, sharp / 255)
-            for _, pair in videos["test"]
+            for _, pair in test_videos(args.root, blur, args.frames)
             for blurred, sharp in zip(*(part[::5] for part in pair), strict=True)
         )
         gains_linear = filter_gains(test, fit_global_filter(training, 9), 9)
