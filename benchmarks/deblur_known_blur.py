@@ -5,6 +5,7 @@ every frame, all without sensor noise.
     blurloc synth --out data/standin-noise0 --frames 200 --noise 0
     python benchmarks/deblur_known_blur.py --root data/standin-noise0 [--seeds 0 1 2 3]
         [--steps 1200] [--frames 100] [--out build/known_blur] [--workers 2]
+        [--blurs rendered warped "recorded lines" "one line"]
 
 On a stand-in rendered without noise (see ``train_without_noise.py``), the full network of
 notebook 03 gains about as much as one linear filter for all frames, while a filter fitted to
@@ -208,19 +209,22 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
     parser.add_argument("--out", default="build/known_blur")
     parser.add_argument("--workers", type=int, default=2, help="processes that work at once")
+    parser.add_argument("--blurs", nargs="+", choices=BLURS, default=list(BLURS),
+                        help="the arms to run (default: all four)")  # fmt: skip
     args = parser.parse_args()
+    blurs = [blur for blur in BLURS if blur in args.blurs]
     if len(args.seeds) < 2:
         parser.error("--seeds: at least two, for a paired interval")
 
     budget = VideoTrainConfig(steps=args.steps, validate_every=100, threads=1)
     jobs = [(args.root, blur, replace(budget, seed=seed),
              Path(args.out) / f"{blur.replace(' ', '_')}-seed{seed}")
-            for blur in BLURS for seed in args.seeds]  # fmt: skip
+            for blur in blurs for seed in args.seeds]  # fmt: skip
     started = time.perf_counter()
     checkpoints = list(parallel_map(train_one, jobs, args.workers))
     seconds = time.perf_counter() - started
-    scoring = [(args.root, blur, args.frames, "blurred", None) for blur in BLURS]
-    scoring += [(args.root, blur, args.frames, "shipped", DEFAULT_CHECKPOINT) for blur in BLURS]
+    scoring = [(args.root, blur, args.frames, "blurred", None) for blur in blurs]
+    scoring += [(args.root, blur, args.frames, "shipped", DEFAULT_CHECKPOINT) for blur in blurs]
     scoring += [(args.root, job[1], args.frames, f"seed{job[2].seed}", checkpoint)
                 for job, checkpoint in zip(jobs, checkpoints, strict=True)]  # fmt: skip
     rows = [row for rows in parallel_map(score_one, scoring, args.workers) for row in rows]
@@ -228,7 +232,7 @@ def main() -> None:
                  if row["method"] == "blurred" and np.isinf(row["psnr_db"])}  # fmt: skip
     print(f"{len(unblurred)} test frames left out: under some blur they equal their sharp frame")
     gains: dict[str, dict[int, float]] = {}
-    for blur in BLURS:
+    for blur in blurs:
         means = {method: value["mean"] for method, value in per_scene_means(
             [row for row in rows if row["blur"] == blur and row["index"] not in unblurred],
             "psnr_db").items()}  # fmt: skip
@@ -236,8 +240,8 @@ def main() -> None:
         print(f"\n{blur}: blurred input {means['blurred']:.2f} dB; shipped checkpoint "
               f"{means['shipped'] - means['blurred']:+.2f} dB; trained "
               + ", ".join(f"seed {s}: {g:+.2f} dB" for s, g in gains[blur].items()))  # fmt: skip
-    parameters = dict.fromkeys(BLURS, parameter_count(VideoDeblurNet()))
-    for reference, other in itertools.pairwise(BLURS):  # each arm to the one before
+    parameters = dict.fromkeys(blurs, parameter_count(VideoDeblurNet()))
+    for reference, other in itertools.pairwise(blurs):  # each arm to the one before
         intervals = ablation_intervals({name: gains[name] for name in (reference, other)},
                                        parameters, reference=reference,
                                        below=f"gains less than under {reference}",
@@ -250,7 +254,7 @@ def main() -> None:
         print(markdown.read_text())
     print(f"({seconds:.0f} s of training; steps {args.steps}, seeds {args.seeds}, first "
           f"{args.frames} frames of every test sequence)")  # fmt: skip
-    for blur in BLURS:
+    for blur in blurs:
         training = (
             (blurred / 255, sharp / 255)
             for pair in training_videos(args.root, blur)["train"]

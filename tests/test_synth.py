@@ -114,6 +114,30 @@ def test_no_motion_gives_the_sharp_frame() -> None:
     np.testing.assert_array_equal(blurred, sharp)
 
 
+def test_supersampling_integrates_each_pixel_without_moving_the_image() -> None:
+    """Rays averaged over each pixel approach its area integral (approximated by 6 x 6 rays):
+    edges and texture detail no longer depend on where one ray happens to fall, and a small
+    marker's centroid lands on its projection (one ray per pixel quantises it)."""
+    point = (0.3, 2.99, -0.2)
+    pose = LinearTrajectory((0.0, 0.0, 0.0))
+    camera = intrinsics(WIDTH, HEIGHT)
+
+    def sharp(rays: int) -> np.ndarray:
+        config = SynthConfig(blur_strength=0.0, supersample=rays)
+        return render_exposure(wall_scene(point), pose, 0.0, config, camera)[1]
+
+    one, three, integral = sharp(1), sharp(3), sharp(6)
+    gray = {rays: image.mean(axis=2) for rays, image in ((1, one), (3, three), (6, integral))}
+    assert np.abs(gray[3] - gray[6]).mean() < 0.5 * np.abs(gray[1] - gray[6]).mean()
+    (dx, dy), _ = cv2.phaseCorrelate(gray[3].astype(np.float64), gray[6].astype(np.float64))
+    assert np.hypot(dx, dy) < 0.05
+    red = np.clip(integral[..., 0] - integral[..., 1], 0, None)
+    rows, columns = np.mgrid[0:HEIGHT, 0:WIDTH]
+    centroid = ((red * columns).sum() / red.sum(), (red * rows).sum() / red.sum())
+    expected = (camera[0, 0] * 0.3 / 2.99 + camera[0, 2], camera[1, 1] * 0.2 / 2.99 + camera[1, 2])
+    np.testing.assert_allclose(centroid, expected, atol=0.08)
+
+
 def test_no_exposure_and_no_noise_stores_the_sharp_frame(tmp_path: Path) -> None:
     config = SynthConfig.quick(blur_strength=0.0, noise_sigma=0.0, frames_per_sequence=3)
     synthesize(tmp_path, scenes=["heads"], config=config, workers=1, progress=False)
@@ -275,6 +299,9 @@ def test_bad_settings_are_refused(tmp_path: Path) -> None:
         SynthConfig(blur_strength=-1)
     with pytest.raises(ValueError, match="--route-share"):
         SynthConfig(route_share=1.01)
+    for rays in (0, 2.5, 9):
+        with pytest.raises(ValueError, match="--supersample"):
+            SynthConfig(supersample=rays)
 
 
 def test_a_real_dataset_root_is_never_rendered_into(tmp_path: Path) -> None:

@@ -25,6 +25,7 @@ def _synth(args: argparse.Namespace) -> int:
             "blur_strength": args.blur_strength,
             "noise_sigma": args.noise,
             "route_share": args.route_share,
+            "supersample": args.supersample,
         }.items()
         if v is not None
     }
@@ -348,6 +349,9 @@ def build_parser() -> argparse.ArgumentParser:
     synth.add_argument("--route-share", type=float,
                        help="part of each walk on a route shared by the scene's sequences "
                             "(0-1; default 0.9; 0: independent sequences)")  # fmt: skip
+    synth.add_argument(
+        "--supersample", type=int, help="rays per pixel side, averaged into each pixel (default 1)"
+    )
     synth.add_argument("--workers", type=int, help="processes (default: one per core)")
     synth.add_argument("--overwrite", action="store_true", help="render even if up to date")
     synth.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -73,6 +73,8 @@ MIN_SIZE, MAX_SIZE = 8, 4096
 #: motion outgrows the 41 sub-exposure renders per frame (they would lie over 1 px apart), and at
 #: 30 it would leave the trajectory's 1 s margin.
 MAX_BLUR_STRENGTH = 10.0
+#: Most rays per pixel side (64 a pixel).
+MAX_SUPERSAMPLE = 8
 #: Length of a scene's shared route (:func:`scene_route`) in units of path time (one unit: the
 #: correlation time of the walk), per 1000 frames of the scene's sequences: a 1000-frame
 #: sequence travels about 30 units, so it goes about three times around its route. At least
@@ -97,7 +99,12 @@ class SynthConfig:
     Every field is checked on construction; a ValueError names the field and its ``blurloc
     synth`` option: width and height in [MIN_SIZE, MAX_SIZE] px, at least 2 frames per
     sequence, ``blur_strength`` in [0, MAX_BLUR_STRENGTH], ``noise_sigma`` in [0, 1],
-    ``route_share`` in [0, 1].
+    ``route_share`` in [0, 1], ``supersample`` an integer in [1, MAX_SUPERSAMPLE].
+
+    ``supersample`` is how many rays per pixel side every render of the exposure casts (their
+    mean is the pixel, in linear light): a camera's pixel integrates the light over its area,
+    while one ray per pixel rasterises each instant's edges and texture detail anew, detail
+    that its neighbours in the exposure, and the sharp frame, do not share.
 
     ``route_share`` is how much of each sequence's walk and gaze follows a route shared by all
     sequences of its scene (:func:`scene_route`), the rest being the sequence's own wander
@@ -123,6 +130,7 @@ class SynthConfig:
     sequence_counts: dict[str, tuple[int, int]] = field(
         default_factory=lambda: dict(SEQUENCE_COUNTS)
     )
+    supersample: int = 1  # rays per pixel side (1: one ray through each pixel's centre)
 
     def __post_init__(self) -> None:
         for name, option in (("width", "--width"), ("height", "--height"),
@@ -139,6 +147,9 @@ class SynthConfig:
             if not (np.isfinite(value) and 0 <= value <= high):
                 raise ValueError(f"{name} ({option}) must be a finite number in [0, {high}], "
                                  f"got {value!r}")  # fmt: skip
+        if not _is_int(self.supersample) or not 1 <= self.supersample <= MAX_SUPERSAMPLE:
+            raise ValueError(f"supersample (--supersample) must be an integer in "
+                             f"[1, {MAX_SUPERSAMPLE}], got {self.supersample!r}")  # fmt: skip
         for name in ("max_sample_spacing_px", "fps", "step_median_m", "rotation_median_deg"):
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
@@ -365,7 +376,9 @@ def render_exposure(
     rule over an odd number of sharp renders, spaced at most ``max_sample_spacing_px`` apart in
     the image, so the middle render is the sharp frame itself and no motion gives a blurred
     frame equal to the sharp one. The renders other than the middle one are rasterised together
-    (:func:`~blurloc.data.render.render_poses`).
+    (:func:`~blurloc.data.render.render_poses`). With ``config.supersample`` k > 1 every render
+    is made at k times the size (the intrinsics scaled so that each pixel holds k x k evenly
+    spaced rays) and each pixel is the mean of its k x k rays (a box filter over the pixel).
 
     Parameters
     ----------
@@ -388,7 +401,8 @@ def render_exposure(
     blurred, sharp : np.ndarray
         (height, width, 3) float32 linear-light images: the exposure's average and its middle.
     depth : np.ndarray
-        (height, width) z-depth at mid-exposure, metres (0: no surface).
+        (height, width) z-depth at mid-exposure, metres (0: no surface); with supersampling,
+        that of the ray nearest each pixel's centre.
     blur : BlurInfo
         Blur extent and direction, and the number of renders averaged.
     """
@@ -402,16 +416,23 @@ def render_exposure(
     offsets = exposure * ((np.arange(samples) + 0.5) / samples - 0.5)
     offsets[middle] = 0.0
     poses = trajectory.poses(time_s + offsets)
-    batch = 1 if reference else max(1, _BATCH_PIXELS // (width * height))
+    rays = config.supersample
+    ray_camera = camera * np.array([[rays], [rays], [1.0]])  # rays at (k u + (k - 1) / 2, ...)
+    ray_camera[:2, 2] += (rays - 1) / 2
+    ray_width, ray_height = width * rays, height * rays
+    batch = 1 if reference else max(1, _BATCH_PIXELS // (ray_width * ray_height))
     total = np.zeros((height, width, 3), np.float64)
     for first in range(0, samples, batch):
         if reference:
-            image, depth = render_reference(scene, poses[first], camera, width, height)
+            image, depth = render_reference(scene, poses[first], ray_camera, ray_width, ray_height)
             images, depths = image[None], depth[None]
         else:
             images, depths = render_poses(
-                scene, poses[first : first + batch], camera, width, height
+                scene, poses[first : first + batch], ray_camera, ray_width, ray_height
             )
+        if rays > 1:
+            images = images.reshape(len(images), height, rays, width, rays, 3).mean(axis=(2, 4))
+            depths = depths[:, rays // 2 :: rays, rays // 2 :: rays]
         total += images.sum(axis=0, dtype=np.float64)
         if first <= middle < first + len(images):
             sharp, depth = images[middle - first], depths[middle - first]
