@@ -5,7 +5,7 @@ every frame, all without sensor noise.
     blurloc synth --out data/standin-noise0 --frames 200 --noise 0
     python benchmarks/deblur_known_blur.py --root data/standin-noise0 [--seeds 0 1 2 3]
         [--steps 1200] [--frames 100] [--out build/known_blur] [--workers 2]
-        [--blurs rendered warped "recorded lines" "one line"]
+        [--blurs rendered warped "recorded lines" "one line"] [--versus OTHER_OUT]
 
 On a stand-in rendered without noise (see ``train_without_noise.py``), the full network of
 notebook 03 gains about as much as one linear filter for all frames, while a filter fitted to
@@ -36,6 +36,11 @@ seed, the paired difference of each arm to the one before with its 95 % t-interv
 every blur the gains of two 9 x 9 linear filters (one learned on the arm's training frames,
 one fitted to each test frame's own top half: see ``linear_deblur_bounds.py``).
 
+Each arm's gain per seed is written to ``--out``/``gains.csv``. ``--versus`` names another run's
+``--out`` (on another render of the same scenes and camera paths, e.g. one made with ``blurloc
+synth --supersample 3``): every arm that both runs hold is then compared across the two renders,
+paired by seed, with its 95 % t-interval.
+
 Finished trainings in ``--out`` are reused (``train_without_noise.py``'s ``clean-seed<n>``
 runs are the ``rendered`` arm's: copy them to ``rendered-seed<n>``); one made with other
 settings is refused.
@@ -44,6 +49,7 @@ settings is refused.
 from __future__ import annotations
 
 import argparse
+import csv
 import functools
 import itertools
 import time
@@ -57,6 +63,7 @@ from linear_deblur_bounds import filter_gains, fit_global_filter, print_gains
 from scipy.ndimage import map_coordinates
 
 from blurloc.blur import blur_image, motion_kernel
+from blurloc.config import write_rows
 from blurloc.data import SequenceFrames, list_scenes, load_split
 from blurloc.data.render import Scene
 from blurloc.data.sevenscenes import read_depth
@@ -201,6 +208,35 @@ def score_one(job: tuple) -> list[dict]:
     return rows
 
 
+def compare_runs(
+    gains: dict[str, dict[int, float]], versus: str, root: str, parameters: int
+) -> None:
+    """Print each arm's gain in this run minus its gain in the run whose ``--out`` is
+    ``versus``, paired by seed, with its 95 % t-interval."""
+    other: dict[str, dict[int, float]] = {}
+    with open(Path(versus) / "gains.csv", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    for row in rows:
+        other.setdefault(row["blur"], {})[int(row["seed"])] = float(row["gain_db"])
+    for blur in [name for name in gains if name in other]:
+        seeds = sorted(set(gains[blur]) & set(other[blur]))
+        pair = {
+            versus: {seed: other[blur][seed] for seed in seeds},
+            root: {seed: gains[blur][seed] for seed in seeds},
+        }
+        table = ablation_intervals(
+            pair,
+            dict.fromkeys(pair, parameters),
+            reference=versus,
+            below=f"gains less on {root}",
+            above=f"gains more on {root}",
+        )
+        print(f"\n{blur}, {root} minus {versus} (paired by seed):")
+        for row in table:
+            print({key: round(value, 3) if isinstance(value, float) else value
+                   for key, value in row.items()})  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", required=True, help="a stand-in rendered with --noise 0")
@@ -211,6 +247,7 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2, help="processes that work at once")
     parser.add_argument("--blurs", nargs="+", choices=BLURS, default=list(BLURS),
                         help="the arms to run (default: all four)")  # fmt: skip
+    parser.add_argument("--versus", help="another run's --out, compared arm by arm and seed")
     args = parser.parse_args()
     blurs = [blur for blur in BLURS if blur in args.blurs]
     if len(args.seeds) < 2:
@@ -240,7 +277,11 @@ def main() -> None:
         print(f"\n{blur}: blurred input {means['blurred']:.2f} dB; shipped checkpoint "
               f"{means['shipped'] - means['blurred']:+.2f} dB; trained "
               + ", ".join(f"seed {s}: {g:+.2f} dB" for s, g in gains[blur].items()))  # fmt: skip
+    write_rows([{"blur": blur, "seed": seed, "gain_db": gain} for blur, by_seed in gains.items()
+                for seed, gain in by_seed.items()], Path(args.out) / "gains.csv")  # fmt: skip
     parameters = dict.fromkeys(blurs, parameter_count(VideoDeblurNet()))
+    if args.versus:
+        compare_runs(gains, args.versus, args.root, parameters[blurs[0]])
     for reference, other in itertools.pairwise(blurs):  # each arm to the one before
         intervals = ablation_intervals({name: gains[name] for name in (reference, other)},
                                        parameters, reference=reference,
