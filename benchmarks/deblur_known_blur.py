@@ -252,6 +252,8 @@ def main() -> None:
     blurs = [blur for blur in BLURS if blur in args.blurs]
     if len(args.seeds) < 2:
         parser.error("--seeds: at least two, for a paired interval")
+    if args.versus and not (Path(args.versus) / "gains.csv").is_file():
+        parser.error(f"--versus: {args.versus} holds no gains.csv (run this script there first)")
 
     budget = VideoTrainConfig(steps=args.steps, validate_every=100, threads=1)
     jobs = [(args.root, blur, replace(budget, seed=seed),
