@@ -4,6 +4,9 @@ motion statistics and determinism."""
 from __future__ import annotations
 
 import filecmp
+import json
+import shutil
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
@@ -288,6 +291,24 @@ def test_synthesize_is_idempotent(quick_root: Path) -> None:
     )
     assert (quick_root / "standin.json").stat().st_mtime_ns == stamp
     assert check_data(quick_root)["scenes"]["chess"]["test"]["frames"] == 8
+
+
+def test_a_stand_in_rendered_before_a_setting_existed_is_not_rendered_again(
+    quick_root: Path, tmp_path: Path
+) -> None:
+    """Its manifest lacks the setting, which then takes its default (the earlier renderer)."""
+    root = shutil.copytree(quick_root, tmp_path / "standin")
+    path = root / "standin.json"
+    manifest = json.loads(path.read_text())
+    del manifest["config"]["supersample"]
+    path.write_text(json.dumps(manifest))
+    stamp = path.stat().st_mtime_ns
+    config = SynthConfig.quick()
+    synthesize(root, scenes=["chess", "stairs"], config=config, seed=3, progress=False)
+    assert path.stat().st_mtime_ns == stamp
+    synthesize(root, scenes=["chess", "stairs"], config=replace(config, supersample=2),
+               seed=3, progress=False, workers=1)  # fmt: skip
+    assert json.loads(path.read_text())["config"]["supersample"] == 2
 
 
 def test_bad_settings_are_refused(tmp_path: Path) -> None:

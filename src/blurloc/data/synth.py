@@ -756,9 +756,15 @@ def synthesize(
 
 
 def _up_to_date(manifest_path: Path, manifest: dict) -> bool:
+    """True when the stand-in at ``manifest_path`` was rendered as ``manifest`` describes. A
+    setting added to :class:`SynthConfig` after it was rendered counts as its default (every
+    new setting's default renders what the renderer rendered before it existed)."""
     try:
-        return json.loads(manifest_path.read_text()) == manifest
-    except (OSError, ValueError):
+        stored = json.loads(manifest_path.read_text())
+        defaults = _manifest(SynthConfig(), 0, [])["config"]
+        stored["config"] = {**defaults, **stored["config"]}
+        return stored == manifest
+    except (OSError, ValueError, KeyError, TypeError):
         return False
 
 
