@@ -38,8 +38,8 @@ one fitted to each test frame's own top half: see ``linear_deblur_bounds.py``).
 
 Each arm's gain per seed is written to ``--out``/``gains.csv``. ``--versus`` names another run's
 ``--out`` (on another render of the same scenes and camera paths, e.g. one made with ``blurloc
-synth --supersample 3``): every arm that both runs hold is then compared across the two renders,
-paired by seed, with its 95 % t-interval.
+synth --supersample 3``): every arm that both runs hold, and every step from one such arm to
+the next, is then compared across the two renders, paired by seed, with its 95 % t-interval.
 
 Finished trainings in ``--out`` are reused (``train_without_noise.py``'s ``clean-seed<n>``
 runs are the ``rendered`` arm's: copy them to ``rendered-seed<n>``); one made with other
@@ -211,27 +211,27 @@ def score_one(job: tuple) -> list[dict]:
 def compare_runs(
     gains: dict[str, dict[int, float]], versus: str, root: str, parameters: int
 ) -> None:
-    """Print each arm's gain in this run minus its gain in the run whose ``--out`` is
-    ``versus``, paired by seed, with its 95 % t-interval."""
+    """Print, for each arm both runs hold and for each step from one such arm to the next
+    (e.g. ``warped - rendered``), its value in this run minus that in the run whose ``--out``
+    is ``versus``, paired by seed, with its 95 % t-interval."""
     other: dict[str, dict[int, float]] = {}
     with open(Path(versus) / "gains.csv", newline="") as handle:
-        rows = list(csv.DictReader(handle))
-    for row in rows:
-        other.setdefault(row["blur"], {})[int(row["seed"])] = float(row["gain_db"])
-    for blur in [name for name in gains if name in other]:
-        seeds = sorted(set(gains[blur]) & set(other[blur]))
-        pair = {
-            versus: {seed: other[blur][seed] for seed in seeds},
-            root: {seed: gains[blur][seed] for seed in seeds},
-        }
-        table = ablation_intervals(
-            pair,
-            dict.fromkeys(pair, parameters),
-            reference=versus,
-            below=f"gains less on {root}",
-            above=f"gains more on {root}",
-        )
-        print(f"\n{blur}, {root} minus {versus} (paired by seed):")
+        for row in csv.DictReader(handle):
+            other.setdefault(row["blur"], {})[int(row["seed"])] = float(row["gain_db"])
+    arms = [blur for blur in BLURS if blur in gains and blur in other]
+    runs = {versus: other, root: gains}
+    quantities = {name: {run: by_blur[name] for run, by_blur in runs.items()} for name in arms}
+    for first, second in itertools.pairwise(arms):
+        quantities[f"{second} - {first}"] = {
+            run: {seed: by_blur[second][seed] - by_blur[first][seed]
+                  for seed in by_blur[first] if seed in by_blur[second]}
+            for run, by_blur in runs.items()}  # fmt: skip
+    for name, by_run in quantities.items():
+        seeds = sorted(set(by_run[versus]) & set(by_run[root]))
+        pair = {run: {seed: values[seed] for seed in seeds} for run, values in by_run.items()}
+        table = ablation_intervals(pair, dict.fromkeys(pair, parameters), reference=versus,
+                                   below=f"less on {root}", above=f"more on {root}")  # fmt: skip
+        print(f"\n{name}, {root} minus {versus} (dB, paired by seed):")
         for row in table:
             print({key: round(value, 3) if isinstance(value, float) else value
                    for key, value in row.items()})  # fmt: skip
