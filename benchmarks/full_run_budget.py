@@ -69,13 +69,17 @@ REFERENCE = {"render": 988, "ablation trainings": 2740, "ablation scoring": 364,
              "notebooks 00-02 and 05": 387}  # fmt: skip
 STANDIN_FRAMES = 43_000
 DOSE_FRAMES = 4 * 3_000  # chess at four exposures, 500 frames per sequence, rendered and copied
+POSE_TRAININGS = 7 * 5 * 5  # notebook 04: scenes x seeds x (4 inputs + the single-frame head)
+#: (video ablation trainings, dose-response pose trainings): as the notebooks run them (4
+#: variants x 5 seeds; 4 strengths x 2 inputs x 5 seeds), and with 3 seeds each.
+AS_RUN, SMALLEST = (20, 40), (12, 24)
 
 
-def timed(action: Callable[[], object]) -> float:
-    """Wall-clock seconds of ``action()``."""
+def timed(action: Callable[[], object]) -> tuple[float, object]:
+    """Wall-clock seconds of ``action()``, and what it returned."""
     started = time.perf_counter()
-    action()
-    return time.perf_counter() - started
+    result = action()
+    return time.perf_counter() - started, result
 
 
 def measure_units(data: Path, out: Path) -> dict[str, float]:
@@ -86,31 +90,34 @@ def measure_units(data: Path, out: Path) -> dict[str, float]:
     if not (heads / "heads").exists():
         (heads / "heads").symlink_to((data / "heads").resolve())
     heads_frames = sum(1 for _ in (data / "heads").glob("seq-*/*.color.png"))
-    units = {"render": timed(lambda: synthesize(out / "render", scenes=["heads"], progress=False,
-                                                config=SynthConfig(), overwrite=True))
-             / heads_frames}  # fmt: skip
+    seconds, _ = timed(lambda: synthesize(out / "render", scenes=["heads"], progress=False,
+                                          config=SynthConfig(), overwrite=True))  # fmt: skip
+    units = {"render": seconds / heads_frames}
     print(f"render: {1 / units['render']:.1f} frames/s")
     variants = video_ablation.equal_parameter_variants(VideoDeblurConfig(bounded_state=True))
     pair = {name: variants[name] for name in ("full", "single_frame")}
     budget = VideoTrainConfig(steps=400, validate_every=200, device="cpu")  # notebook 03's
-    runs: list = []
-    units["ablation training"] = timed(lambda: runs.extend(video_ablation.train_ablations(
-        data, pair, [0], budget, out / "ablations", 250, workers=2, validation_per_scene=1,
-    ))) / 2  # fmt: skip
+    seconds, runs = timed(
+        lambda: video_ablation.train_ablations(
+            data, pair, [0], budget, out / "ablations", 250, workers=2, validation_per_scene=1
+        )
+    )
+    units["ablation training"] = seconds / 2
     print(f"ablation training: {units['ablation training']:.0f} s (two at a time)")
-    units["ablation scoring"] = timed(lambda: video_ablation.ablation_gains(
-        data, runs, "cpu", 100, workers=2)) / 2  # fmt: skip
+    seconds, _ = timed(lambda: video_ablation.ablation_gains(data, runs, "cpu", 100, workers=2))
+    units["ablation scoring"] = seconds / 2
     print(f"scoring one network: {units['ablation scoring']:.0f} s")
     for name, method in (("network copy", VideoRestorer(DEFAULT_CHECKPOINT, "cpu")),
                          ("Wiener copy", wiener_sequence)):  # fmt: skip
-        seconds = timed(lambda m=method, n=name: write_deblurred_root(
-            heads, out / n.replace(" ", "-"), m, workers=2))  # fmt: skip
+        copy = out / name.replace(" ", "-")
+        seconds, _ = timed(lambda m=method, c=copy: write_deblurred_root(heads, c, m, workers=2))
         units[name] = seconds / heads_frames
         print(f"{name}: {1 / units[name]:.1f} frames/s")
     trainings = [("blurred", "lstm"), ("blurred", "none")]
-    units["pose training"] = timed(lambda: run_pose_matrix(
+    seconds, _ = timed(lambda: run_pose_matrix(
         {"blurred": data}, ["chess"], trainings, PoseTrainConfig(device="cpu"), out / "pose",
-        (0, 1), workers=2)) / 4  # fmt: skip
+        (0, 1), workers=2))  # fmt: skip
+    units["pose training"] = seconds / 4
     print(f"pose training: {units['pose training']:.1f} s (two at a time)")
     return units
 
@@ -125,7 +132,7 @@ def project(units: dict[str, float], ablations: int, dose_trainings: int) -> dic
         "Wiener copy": units["Wiener copy"] * STANDIN_FRAMES,
         "network copy": units["network copy"] * STANDIN_FRAMES,
         "notebook 03, the rest": REFERENCE["notebook 03, the rest"],
-        "pose matrix (notebook 04)": units["pose training"] * 7 * 5 * 5,
+        "pose matrix (notebook 04)": units["pose training"] * POSE_TRAININGS,
         "dose-response (notebook 06)": units["pose training"] * dose_trainings
         + (units["render"] + units["network copy"]) * DOSE_FRAMES,
         "notebooks 00-02 and 05": REFERENCE["notebooks 00-02 and 05"],
@@ -143,8 +150,7 @@ def main() -> None:
         raise SystemExit(f"{args.data}: not a rendered stand-in (run blurloc synth --out DIR)")
     shutil.rmtree(args.out, ignore_errors=True)
     units = measure_units(args.data, args.out)
-    as_run = project(units, ablations=20, dose_trainings=40)
-    smallest = project(units, ablations=12, dose_trainings=24)
+    as_run, smallest = project(units, *AS_RUN), project(units, *SMALLEST)
     print(f"\n{'stage':30s} {'last full run':>14s} {'projected here':>15s} {'smallest run':>13s}")
     for stage, reference in REFERENCE.items():
         print(f"{stage:30s} {reference:14.0f} {as_run[stage]:15.0f} {smallest[stage]:13.0f}")
