@@ -41,6 +41,10 @@ Measured 2026-12-03 on a 2-core machine that rendered the whole stand-in in 606 
     dose-response (notebook 06)               950             852           644
     notebooks 00-02 and 05                    387             387           387
     total, minutes                          159.3           137.7         113.6   (target 90)
+
+A second run on the same machine a quarter of an hour later: render 63.8 frames/s, ablation training
+141 s, scoring 24 s, network copy 64.2 frames/s, Wiener copy 190.2 frames/s, pose training
+15.5 s; totals 154.3 and 128.3 minutes.
 """
 
 from __future__ import annotations
