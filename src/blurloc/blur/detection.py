@@ -1,0 +1,102 @@
+"""Is an image motion-blurred? The blur score, the detector and its calibration."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .features import blur_features
+from .length_model import length_from_features
+
+#: The detector's classes, by recorded blur extent (px): frames with at least BLURRED_FROM_PX are
+#: blurred; frames under SHARP_BELOW_PX (too little blur for deblurring to help) count as sharp,
+#: beside the sharp renders; frames in between are left out of calibration.
+BLURRED_FROM_PX = 3.0
+SHARP_BELOW_PX = 1.5
+
+
+def calibrate_blur_threshold(
+    scores: np.ndarray, blurred: np.ndarray, sharp_groups: np.ndarray | None = None
+) -> float:
+    """The threshold that maximises balanced accuracy on labelled scores: the mean of the share
+    of blurred examples flagged and the share of sharp examples passed; midway between the two
+    scores around the cut.
+
+    Parameters
+    ----------
+    scores : numpy.ndarray
+        (N,) blur scores (:func:`blur_score`).
+    blurred : numpy.ndarray
+        (N,) bool, True for blurred examples; both classes must be present.
+    sharp_groups : numpy.ndarray, optional
+        (N,) group of each example (read for the sharp ones only). When given, the share of sharp
+        examples passed is the mean over the groups of each group's share, so that a small group
+        (frames with a little blur) counts as much as a large one (sharp renders).
+
+    Returns
+    -------
+    float
+        The threshold, px.
+    """
+    scores, blurred = np.asarray(scores, float), np.asarray(blurred, bool)
+    if blurred.all() or not blurred.any():
+        raise ValueError("calibration needs both blurred and sharp examples")
+    groups = np.zeros(len(scores), int) if sharp_groups is None else np.asarray(sharp_groups)
+    sharp_sets = [scores[~blurred & (groups == g)] for g in np.unique(groups[~blurred])]
+    candidates = np.sort(scores)
+    cuts = (candidates[:-1] + candidates[1:]) / 2
+
+    def share_at_or_below(values: np.ndarray) -> np.ndarray:
+        return np.searchsorted(np.sort(values), cuts, side="right") / len(values)
+
+    flagged = 1.0 - share_at_or_below(scores[blurred])
+    passed = np.mean([share_at_or_below(group) for group in sharp_sets], axis=0)
+    balanced = np.round(flagged + passed, 12)  # exact ties go to the lowest cut
+    return float(cuts[int(np.argmax(balanced))])
+
+
+def detection_rates(
+    scores: np.ndarray, blurred: np.ndarray, threshold: float
+) -> tuple[float, float, float]:
+    """How a threshold on blur scores separates blurred from sharp frames.
+
+    Parameters
+    ----------
+    scores : numpy.ndarray
+        (N,) blur scores (:func:`blur_score`).
+    blurred : numpy.ndarray
+        (N,) bool, True for frames that are blurred; both classes must be present.
+    threshold : float
+        Frames scoring above it are flagged as blurred.
+
+    Returns
+    -------
+    flagged, passed, balanced : float
+        Share of blurred frames flagged, share of sharp frames passed, and their mean
+        (balanced accuracy).
+    """
+    scores, blurred = np.asarray(scores, float), np.asarray(blurred, bool)
+    flagged = float((scores[blurred] > threshold).mean())
+    passed = float((scores[~blurred] <= threshold).mean())
+    return flagged, passed, (flagged + passed) / 2
+
+
+#: Estimated length (px) above which :func:`detect_blur` calls an image blurred, and at or below
+#: which the estimator reports it sharp. Chosen by :func:`calibrate_blur_threshold` on the
+#: stand-in's training split (frames with >= BLURRED_FROM_PX of blur against sharp renders and
+#: frames under SHARP_BELOW_PX, each of the two sharp groups counted equally; notebook 01
+#: recomputes it).
+BLUR_THRESHOLD = 2.19
+
+
+def blur_score(image: np.ndarray) -> float:
+    """Blur score of an image: its coarse blind blur length in px (:func:`blur_features` and the
+    length model, without the sinc refinement). Grows with blur; about 0 for sharp frames.
+    Images with a side under MIN_ANALYSIS_SIDE px are refused (ValueError)."""
+    return length_from_features(blur_features(image))
+
+
+def detect_blur(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> tuple[bool, float]:
+    """Whether ``image`` is motion-blurred (its :func:`blur_score`, the estimated blur length in
+    px, exceeds ``threshold``), and the score."""
+    score = blur_score(image)
+    return score > threshold, score
