@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .layout import SCENE_NAMES
 from .render import Light, Quad, Scene
 
 Vec = tuple[float, float, float]
@@ -286,18 +287,6 @@ SCENES = {
     "pumpkin": pumpkin,
     "redkitchen": redkitchen,
     "stairs": stairs,
-}
-SCENE_NAMES = tuple(SCENES)
-
-#: 7-Scenes' numbers of (training, test) sequences per scene.
-SEQUENCE_COUNTS = {
-    "chess": (4, 2),
-    "fire": (2, 2),
-    "heads": (1, 1),
-    "office": (6, 4),
-    "pumpkin": (4, 2),
-    "redkitchen": (7, 5),
-    "stairs": (4, 2),
 }
 
 

@@ -26,6 +26,7 @@ from tqdm.auto import tqdm
 
 from ..files import decode_image, link_or_copy
 from ..geometry import rotation_defect
+from .manifest import STANDIN_MANIFEST, manifest_expectations
 
 SPLIT_FILES = {"train": "TrainSplit.txt", "test": "TestSplit.txt"}
 ROTATION_TOLERANCE = 1e-2  # real 7-Scenes rotations are orthonormal to about 4e-4
@@ -228,8 +229,6 @@ def list_scenes(root: str | os.PathLike) -> list[str]:
 def _promised(root: str | os.PathLike) -> tuple[Path, dict[str, tuple[int, int, int]]] | None:
     """A stand-in's manifest and, per scene, the (frames per sequence, height, width) it
     records; None for a root that is not a stand-in. DataError names a bad manifest."""
-    from .synth import STANDIN_MANIFEST, manifest_expectations
-
     try:
         promised = manifest_expectations(root)
     except ValueError as error:
@@ -391,8 +390,6 @@ def split_one_sequence(
         too few frames for the cut, an existing scene folder or a stand-in manifest in
         ``out_root``.
     """
-    from .synth import STANDIN_MANIFEST
-
     source = Path(sequence_folder)
     match = re.match(r"^seq-(\d+)$", source.name)
     if not match or source.name != f"seq-{int(match.group(1)):02d}":

@@ -1,0 +1,125 @@
+"""Settings of the synthetic stand-in (:class:`SynthConfig`) and the bounds they are checked
+against."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from .layout import SCENE_NAMES, SEQUENCE_COUNTS
+
+#: Per-frame motion of the real 7-Scenes trajectories (30 fps, handheld Kinect), quoted from the
+#: package's design notes (measured on the real poses; not measurable here without the dataset).
+REAL_7SCENES_MOTION = {
+    "step_median_m": 0.009,
+    "step_p95_m": (0.015, 0.032),
+    "rotation_median_deg": 0.55,
+    "rotation_p95_deg": (1.1, 2.0),
+}
+
+
+#: Image sizes accepted, px per side (the intrinsics are 7-Scenes' scaled to the size).
+MIN_SIZE, MAX_SIZE = 8, 4096
+#: Longest exposure accepted, in frame intervals (1/3 s at 30 fps). Beyond it a frame's image
+#: motion outgrows the 41 sub-exposure renders per frame (they would lie over 1 px apart), and at
+#: 30 it would leave the trajectory's 1 s margin.
+MAX_BLUR_STRENGTH = 10.0
+#: Most rays per pixel side (64 a pixel).
+MAX_SUPERSAMPLE = 8
+
+
+def is_integer(value: object) -> bool:
+    """True for a Python or NumPy integer (``bool`` is not counted as one)."""
+    return isinstance(value, int | np.integer) and not isinstance(value, bool)
+
+
+@dataclass(frozen=True)
+class SynthConfig:
+    """Settings of the stand-in. ``blur_strength`` is the exposure time in frame intervals.
+
+    The real Kinect exposes for at most one frame interval (1/30 s); at the stand-in's 160x120
+    that would give about 1-2 px of blur. The default 2.2 stretches it so that blur at 160x120 is
+    about as strong, relative to the image, as in strongly blurred real 7-Scenes frames at
+    640x480: over the default trajectories the blur extent has a median of about 3 px and a
+    90th percentile of about 5 px (notebook 00 measures it).
+
+    Every field is checked on construction; a ValueError names the field and its ``blurloc
+    synth`` option: width and height in [MIN_SIZE, MAX_SIZE] px, at least 2 frames per
+    sequence, ``blur_strength`` in [0, MAX_BLUR_STRENGTH], ``noise_sigma`` in [0, 1],
+    ``route_share`` in [0, 1], ``supersample`` an integer in [1, MAX_SUPERSAMPLE].
+
+    ``supersample`` is how many rays per pixel side every render of the exposure casts (their
+    mean is the pixel, in linear light): a camera's pixel integrates the light over its area,
+    where one ray samples the scene at the pixel's centre (jagged edges, a coarser texture
+    level). The default, one ray, is the stand-in's; three (nine rays) take about four times
+    as long to render and leave what the video network can undo much as it was (README).
+
+    ``route_share`` is how much of each sequence's walk and gaze follows a route shared by all
+    sequences of its scene (:func:`scene_route`), the rest being the sequence's own wander
+    (each part keeps unit variance: ``share * route + sqrt(1 - share**2) * own``). People
+    recording one room walk much the same way, so the test views of real 7-Scenes lie near
+    training views (published regressors reach 0.1-0.3x the mean-pose error there); with
+    independent sequences (``route_share`` 0) a test sequence wanders where no training
+    sequence went. The default 0.9 brings the nearest training view to 0.08-0.27x the
+    mean-pose error on every scene, while that error stays near the real one
+    (:data:`~blurloc.data.scenes.REAL_MEAN_POSE_BASELINE`; notebook 00 measures both).
+    """
+
+    width: int = 160
+    height: int = 120
+    frames_per_sequence: int = 1000  # as 7-Scenes; stairs gets half (500)
+    blur_strength: float = 2.2
+    noise_sigma: float = 0.01  # Gaussian sensor noise on [0, 1] gamma-encoded intensities
+    route_share: float = 0.9  # part of each walk that follows the scene's shared route
+    max_sample_spacing_px: float = 1.0  # sub-exposure renders at most this far apart
+    fps: float = 30.0
+    step_median_m: float = REAL_7SCENES_MOTION["step_median_m"]
+    rotation_median_deg: float = REAL_7SCENES_MOTION["rotation_median_deg"]
+    sequence_counts: dict[str, tuple[int, int]] = field(
+        default_factory=lambda: dict(SEQUENCE_COUNTS)
+    )
+    supersample: int = 1  # rays per pixel side (1: one ray through each pixel's centre)
+
+    def __post_init__(self) -> None:
+        for name, option in (("width", "--width"), ("height", "--height"),
+                             ("frames_per_sequence", "--frames")):  # fmt: skip
+            value = getattr(self, name)
+            low, high = (2, None) if name == "frames_per_sequence" else (MIN_SIZE, MAX_SIZE)
+            if not is_integer(value) or value < low or (high is not None and value > high):
+                bounds = f">= {low}" if high is None else f"in [{low}, {high}]"
+                raise ValueError(f"{name} ({option}) must be an integer {bounds}, got {value!r}")
+        for name, option, high in (("blur_strength", "--blur-strength", MAX_BLUR_STRENGTH),
+                                   ("noise_sigma", "--noise", 1.0),
+                                   ("route_share", "--route-share", 1.0)):  # fmt: skip
+            value = getattr(self, name)
+            if not (np.isfinite(value) and 0 <= value <= high):
+                raise ValueError(f"{name} ({option}) must be a finite number in [0, {high}], "
+                                 f"got {value!r}")  # fmt: skip
+        if not is_integer(self.supersample) or not 1 <= self.supersample <= MAX_SUPERSAMPLE:
+            raise ValueError(f"supersample (--supersample) must be an integer in "
+                             f"[1, {MAX_SUPERSAMPLE}], got {self.supersample!r}")  # fmt: skip
+        for name in ("max_sample_spacing_px", "fps", "step_median_m", "rotation_median_deg"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        for scene, counts in self.sequence_counts.items():
+            if (
+                scene not in SCENE_NAMES
+                or len(counts) != 2
+                or not all(is_integer(n) and n >= 1 for n in counts)
+            ):
+                raise ValueError(f"sequence_counts[{scene!r}] must be (train, test) counts >= 1 "
+                                 f"of one of {', '.join(SCENE_NAMES)}, got {counts!r}")  # fmt: skip
+
+    @classmethod
+    def quick(cls, **overrides) -> SynthConfig:
+        """Tiny settings for CI: one training and one test sequence of 8 frames per scene."""
+        counts = {name: (1, 1) for name in SCENE_NAMES}
+        return replace(cls(frames_per_sequence=8, sequence_counts=counts), **overrides)
+
+    def frames_for(self, scene: str) -> int:
+        """Frames per sequence of ``scene`` (stairs sequences are half as long)."""
+        return (
+            max(2, self.frames_per_sequence // 2) if scene == "stairs" else self.frames_per_sequence
+        )
