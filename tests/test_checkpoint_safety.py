@@ -10,8 +10,9 @@ from pathlib import Path
 import pytest
 import torch
 
+from blurloc.checkpoints import CHECKPOINT_FORMATS
 from blurloc.cli import main
-from blurloc.inference import CHECKPOINT_FORMATS, DEFAULT_CHECKPOINT
+from blurloc.inference import DEFAULT_CHECKPOINT
 from blurloc.models.pose import PoseConfig, PoseRegressor
 from blurloc.train.config import PoseTrainConfig
 

@@ -1,16 +1,14 @@
 """Using trained networks: load any checkpoint of the package safely, restore a video with the
 recurrent deblurring network (eq. 8-11), predict camera poses with the pose regressor.
 
-Every checkpoint is read with ``torch.load(..., weights_only=True)`` (tensors and plain data
-only: a crafted file cannot run code) and must carry the format tag of its kind
-(:data:`CHECKPOINT_FORMATS`); every failure is a ``ValueError`` naming the file.
+Every checkpoint is read by :func:`blurloc.checkpoints.load_checkpoint` (tensors and plain data
+only: a crafted file cannot run code); every failure is a ``ValueError`` naming the file.
 """
 
 from __future__ import annotations
 
 import functools
 import os
-import pickle
 import warnings
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
@@ -19,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
+from .checkpoints import load_checkpoint
 from .data.sevenscenes import SequenceFrames
 from .models.pose import PoseConfig, PoseRegressor
 from .models.video_deblur import VideoDeblurConfig, VideoDeblurNet
@@ -26,79 +25,10 @@ from .poses import PosePair
 from .train.config import PoseTrainConfig
 from .train.datasets import FrameCache, PoseSequenceDataset
 
-#: Format tag stored in each kind of checkpoint, by kind.
-CHECKPOINT_FORMATS = {"video-deblur": "blurloc-video-deblur-1", "pose": "blurloc-pose-1"}
 #: The trained video network shipped with the package (see README for the command that makes it).
 DEFAULT_CHECKPOINT = Path(__file__).with_name("weights") / "video_deblur.pt"
 #: Pixels restored at once by :func:`restore_frames` (bounds its memory for large frames).
 CHUNK_PIXELS = 2**22
-
-
-def checkpoint_kind(payload: dict) -> str:
-    """The kind (``video-deblur`` or ``pose``) of a loaded checkpoint payload.
-
-    Parameters
-    ----------
-    payload : dict
-        What :func:`load_checkpoint` returned.
-
-    Returns
-    -------
-    str
-        A key of :data:`CHECKPOINT_FORMATS`.
-    """
-    return next(k for k, tag in CHECKPOINT_FORMATS.items() if payload.get("format") == tag)
-
-
-def load_checkpoint(
-    path: str | os.PathLike, kind: str | None, device: torch.device | str = "cpu"
-) -> dict:
-    """Read a checkpoint of this package safely.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file.
-    kind : str or None
-        Expected kind (a key of :data:`CHECKPOINT_FORMATS`); None accepts any kind.
-    device : torch.device or str
-        Where its tensors are placed.
-
-    Returns
-    -------
-    dict
-        The payload: ``format``, ``model`` (a state dict) and the kind's settings.
-
-    Raises
-    ------
-    ValueError
-        Naming the file: it is missing or empty, damaged or truncated, not a torch file, a
-        pickle holding anything but tensors and plain data, or a checkpoint of another kind.
-    """
-    path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"{path}: checkpoint file is missing")
-    if path.stat().st_size == 0:
-        raise ValueError(f"{path}: checkpoint file is empty")
-    try:
-        with warnings.catch_warnings():  # torch warns about pickle protocols of foreign files
-            warnings.simplefilter("ignore")
-            payload = torch.load(path, map_location=device, weights_only=True)
-    except pickle.UnpicklingError as error:
-        if "weights only" not in str(error).lower():
-            raise ValueError(f"{path}: not a readable checkpoint (damaged or truncated)") from None
-        raise ValueError(f"{path}: holds objects other than tensors and plain data; refused, "
-                         "since loading it could run code") from None  # fmt: skip
-    except Exception:  # torch raises several types for damaged or foreign files
-        raise ValueError(f"{path}: not a readable checkpoint (damaged, truncated or not a "
-                         "torch file)") from None  # fmt: skip
-    tags = {tag: name for name, tag in CHECKPOINT_FORMATS.items()}
-    found = tags.get(payload.get("format")) if isinstance(payload, dict) else None
-    if found is None or not isinstance(payload.get("model"), dict):
-        raise ValueError(f"{path}: not a blurloc checkpoint")
-    if kind is not None and found != kind:
-        raise ValueError(f"{path}: a blurloc {found} checkpoint, not a {kind} one")
-    return payload
 
 
 def _build(path: Path, model: torch.nn.Module, state: dict) -> None:
@@ -126,7 +56,7 @@ def load_video_deblur(path: str | os.PathLike, device: str = "cpu") -> VideoDebl
     Raises
     ------
     ValueError
-        Naming the file, for any problem (see :func:`load_checkpoint`).
+        Naming the file, for any problem (see :func:`~blurloc.checkpoints.load_checkpoint`).
     """
     path = Path(path)
     payload = load_checkpoint(path, "video-deblur", device)
@@ -194,7 +124,7 @@ def load_pose_model(
     Raises
     ------
     ValueError
-        Naming the file, for any problem (see :func:`load_checkpoint`).
+        Naming the file, for any problem (see :func:`~blurloc.checkpoints.load_checkpoint`).
     """
     path = Path(path)
     payload = load_checkpoint(path, "pose", device)

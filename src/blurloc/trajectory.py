@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .data.sevenscenes import DataError, list_sequence
+from .data.sevenscenes import list_sequence
+from .errors import DataError
 from .geometry import quaternion_to_rotation, rotation_to_quaternion
 from .metrics import error_statistics, orientation_errors_deg, position_errors
 from .poses import PosePair, to_quaternions

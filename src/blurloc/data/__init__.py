@@ -1,8 +1,8 @@
 """Data: the 7-Scenes-layout reader, folders of video frames, and the synthetic stand-in that is
 written in that layout. Torch-free."""
 
+from ..errors import DataError
 from .sevenscenes import (
-    DataError,
     SequenceFrames,
     check_data,
     list_scenes,

@@ -9,8 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import DataError
 from ..images import IMAGE_SUFFIXES
-from .sevenscenes import DataError, read_image
+from .sevenscenes import read_image
 
 
 def list_frames(folder: str | os.PathLike) -> list[Path]:

@@ -24,6 +24,7 @@ import cv2
 import numpy as np
 from tqdm.auto import tqdm
 
+from ..errors import DataError
 from ..files import decode_image, link_or_copy
 from ..geometry import rotation_defect
 from .manifest import STANDIN_MANIFEST, manifest_expectations
@@ -32,10 +33,6 @@ SPLIT_FILES = {"train": "TrainSplit.txt", "test": "TestSplit.txt"}
 ROTATION_TOLERANCE = 1e-2  # real 7-Scenes rotations are orthonormal to about 4e-4
 _FRAME = re.compile(r"^frame-(\d+)\.(color\.png|pose\.txt)$")
 _SPLIT_LINE = re.compile(r"^sequence(\d+)$", re.IGNORECASE)
-
-
-class DataError(ValueError):
-    """A 7-Scenes-layout file is missing, unreadable or invalid; the message names the file."""
 
 
 def read_pose(path: str | os.PathLike) -> np.ndarray:

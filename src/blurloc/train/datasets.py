@@ -14,7 +14,8 @@ import numpy as np
 import torch
 from torch.utils.data import Dataset
 
-from ..data.sevenscenes import DataError, SequenceFrames, read_image
+from ..data.sevenscenes import SequenceFrames, read_image
+from ..errors import DataError
 from ..geometry import rotation_to_quaternion
 
 #: Default bound of a :class:`FrameCache`, bytes (2 GiB: all 43,000 frames of 7-Scenes at the

@@ -1,5 +1,5 @@
-"""What both trainers share: the device, the thread count, the validation cut, atomic
-checkpoints and the rule for resuming a run from its folder.
+"""What both trainers share: the device, the thread count, the validation cut and the rule for
+resuming a run from its folder.
 
 A run folder holds ``best.pt`` (the best validation), ``last.pt`` (everything needed to resume)
 and ``history.json``. A folder holds one model kind and one run: training into a folder whose
@@ -20,7 +20,7 @@ from pathlib import Path
 
 import torch
 
-from ..inference import checkpoint_kind, load_checkpoint
+from ..checkpoints import checkpoint_kind, load_checkpoint
 from ..processes import watch_parent
 
 #: Fraction of every training sequence held out (at its end) for validation.
@@ -119,31 +119,6 @@ def fixed_threads(threads: int) -> Iterator[None]:
         torch.set_num_threads(previous)
 
 
-def save_checkpoint(path: str | os.PathLike, payload: dict) -> None:
-    """Save ``payload`` with ``torch.save`` atomically.
-
-    It is written to a temporary file in the same folder and renamed, so a crash never leaves
-    half a checkpoint.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        Target file; its folder is created.
-    payload : dict
-        Tensors and plain data only (so that it loads with ``weights_only=True``).
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(handle)
-    try:
-        torch.save(payload, temporary)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-
-
 def write_history(out_dir: str | os.PathLike, history: dict) -> Path:
     """Write a run's history as ``out_dir/history.json`` atomically (temporary file, rename).
 
@@ -181,7 +156,7 @@ def resume_state(
     out_dir : str or os.PathLike
         The run folder (may not exist yet).
     kind : str
-        Model kind of this run (a key of :data:`blurloc.inference.CHECKPOINT_FORMATS`).
+        Model kind of this run (a key of :data:`blurloc.checkpoints.CHECKPOINT_FORMATS`).
     settings : dict
         Entries every checkpoint of this run stores and must match to be resumed (the training
         settings, and e.g. the scene).

@@ -11,10 +11,11 @@ import numpy as np
 import torch
 from tqdm.auto import tqdm
 
+from ..checkpoints import CHECKPOINT_FORMATS, save_checkpoint
 from ..config import seed_everything
 from ..data.sevenscenes import SequenceFrames, load_split
 from ..geometry import rotation_to_quaternion
-from ..inference import CHECKPOINT_FORMATS, predict_poses
+from ..inference import predict_poses
 from ..metrics import pose_summary
 from ..models.pose import LearnedWeighting, PoseRegressor, pose_loss
 from .config import PoseTrainConfig
@@ -23,7 +24,6 @@ from .loop import (
     choose_device,
     fixed_threads,
     resume_state,
-    save_checkpoint,
     validation_cut,
     write_history,
 )

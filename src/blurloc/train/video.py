@@ -17,9 +17,10 @@ import numpy as np
 import torch
 from tqdm.auto import tqdm
 
+from ..checkpoints import CHECKPOINT_FORMATS, save_checkpoint
 from ..config import seed_everything
 from ..data.sevenscenes import SequenceFrames, list_scenes, load_split, read_image
-from ..inference import CHECKPOINT_FORMATS, restore_sequence, to_tensor
+from ..inference import restore_sequence, to_tensor
 from ..metrics import mean_frame_psnr
 from ..models.video_deblur import VideoDeblurNet
 from .config import VideoTrainConfig
@@ -27,7 +28,6 @@ from .loop import (
     choose_device,
     fixed_threads,
     resume_state,
-    save_checkpoint,
     validation_cut,
     write_history,
 )
