@@ -30,8 +30,33 @@ NSR_EXPONENT = 0.72
 
 
 def kernel_to_otf(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
-    """DFT of ``kernel`` zero-padded to ``shape`` with its centre moved to pixel (0, 0), so that
-    filtering does not shift the image (MATLAB's psf2otf)."""
+    r"""Optical transfer function of a kernel: its DFT on a grid of ``shape``, centred at (0, 0).
+
+    The kernel is zero-padded to ``shape`` and rolled so that its centre pixel
+    ``(rows // 2, cols // 2)`` lies at the origin, so that filtering by it does not shift the
+    image (MATLAB's ``psf2otf``):
+
+    .. math::
+
+        C(u, v) = \sum_{m, n} c(m, n)\, e^{-2\pi i (u m / M + v n / N)}
+
+    Parameters
+    ----------
+    kernel : numpy.ndarray
+        (h, w) point spread function c of eq. 1, no larger than ``shape``.
+    shape : tuple of int
+        (M, N) size of the transform.
+
+    Returns
+    -------
+    numpy.ndarray
+        (M, N // 2 + 1) complex: the ``rfft2`` half of C, the F{c} of eq. 2-4.
+
+    References
+    ----------
+    Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Sections 5.7-5.8
+    (inverse and minimum mean square error filtering).
+    """
     padded = np.zeros(shape, np.float32)
     padded[: kernel.shape[0], : kernel.shape[1]] = kernel
     padded = np.roll(padded, (-(kernel.shape[0] // 2), -(kernel.shape[1] // 2)), axis=(0, 1))
@@ -39,8 +64,29 @@ def kernel_to_otf(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
 
 
 def estimate_nsr(image: np.ndarray) -> float:
-    """Constant noise-to-signal ratio 1/SNR for eq. 4 from the image's noise sigma
-    (:func:`estimate_noise_sigma`): NSR_COEFFICIENT * sigma ** NSR_EXPONENT, at least 1e-6."""
+    r"""Constant noise-to-signal ratio 1/SNR of eq. 4, from the image's noise level.
+
+    .. math::
+
+        \mathrm{NSR} = \max(a\, \sigma^{k}, 10^{-6})
+
+    with :math:`a` = NSR_COEFFICIENT, :math:`k` = NSR_EXPONENT and :math:`\sigma` the noise
+    standard deviation by Immerkær's method (:func:`~blurloc.blur.estimate_noise_sigma`).
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) image, uint8 or float in [0, 1].
+
+    Returns
+    -------
+    float
+        The NSR, > 0.
+
+    References
+    ----------
+    Immerkær, "Fast noise variance estimation", CVIU 64(2), 1996. The paper's eq. 4.
+    """
     sigma = estimate_noise_sigma(image)
     return float(max(NSR_COEFFICIENT * sigma**NSR_EXPONENT, 1e-6))
 
@@ -71,6 +117,15 @@ def ccs_pack(spectrum: np.ndarray) -> np.ndarray:
     -------
     numpy.ndarray
         (M, N) float32.
+
+    Raises
+    ------
+    ValueError
+        If M is odd or the spectrum has fewer than 2 columns.
+
+    References
+    ----------
+    OpenCV documentation of ``cv::dft`` (CCS-packed output of real transforms).
     """
     rows, half = spectrum.shape
     if rows % 2 or half < 2:
@@ -117,10 +172,43 @@ def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
 def wiener_deconvolve(
     image: np.ndarray, kernel: np.ndarray, nsr: float | None = None
 ) -> np.ndarray:
-    """Wiener deconvolution (eq. 4): X = conj(C) B / (|C|^2 + NSR), per channel.
+    r"""Wiener deconvolution (eq. 4) of each channel, with mirror-padded boundaries.
 
-    ``nsr`` is the constant 1/SNR (> 0); by default it is estimated from the image's noise
-    (:func:`estimate_nsr`). uint8 in gives uint8 out; float in gives float out (unclipped).
+    .. math::
+
+        \tilde{x} = F^{-1}\left\{ \frac{|F\{c\}|^2}{|F\{c\}|^2 + 1/\mathrm{SNR}}
+        \cdot \frac{F\{b\}}{F\{c\}} \right\}
+        = F^{-1}\left\{ \frac{\overline{F\{c\}}}{|F\{c\}|^2 + \mathrm{NSR}}\, F\{b\} \right\}
+
+    With NSR -> 0 it becomes the inverse filter (eq. 3). The constant NSR stands for the ratio of
+    the noise's to the image's power spectral density, which eq. 4 assumes known per frequency.
+    The image is extended by mirror reflection (by the kernel size plus 8 px) before the DFT and
+    cropped back, so that its non-matching opposite edges do not ring.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) blurred image b, uint8 or float in [0, 1].
+    kernel : numpy.ndarray
+        (h, w) PSF c (normalised to sum 1 here), no larger than the image.
+    nsr : float, optional
+        The constant 1/SNR (> 0); default :func:`estimate_nsr` of the image.
+
+    Returns
+    -------
+    numpy.ndarray
+        The restored image, same shape; uint8 for uint8 input, else float64 (unclipped).
+
+    Raises
+    ------
+    ValueError
+        If ``nsr`` is not > 0, or the image or kernel is invalid.
+
+    References
+    ----------
+    Wiener, *Extrapolation, Interpolation, and Smoothing of Stationary Time Series*, MIT Press,
+    1949. Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Sections 5.7-5.8
+    (inverse and minimum mean square error filtering). The paper's eq. 4.
     """
     if nsr is None:
         nsr = estimate_nsr(image)
@@ -131,8 +219,41 @@ def wiener_deconvolve(
 
 
 def inverse_filter(image: np.ndarray, kernel: np.ndarray, threshold: float = 1e-3) -> np.ndarray:
-    """The inverse filter (eq. 3): X = B / C. Frequencies where |C| < ``threshold`` (near the
-    kernel's zeros, where eq. 3 divides by zero) are set to 0. Noise is amplified by 1/|C|."""
+    r"""Inverse filter (eq. 3) of each channel, with mirror-padded boundaries.
+
+    .. math::
+
+        \tilde{x} = F^{-1}\left\{ \frac{F\{b\}}{F\{c\}} \right\},
+        \qquad \text{set to } 0 \text{ where } |F\{c\}| < \tau
+
+    Near the kernel's zeros eq. 3 divides by (almost) zero: those frequencies, where
+    :math:`|F\{c\}|` is below the threshold :math:`\tau`, are dropped. Elsewhere noise is
+    amplified by :math:`1 / |F\{c\}|`, which is why eq. 4 damps it.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) blurred image b, uint8 or float in [0, 1].
+    kernel : numpy.ndarray
+        (h, w) PSF c (normalised to sum 1 here), no larger than the image.
+    threshold : float
+        :math:`\tau` (> 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        The restored image, same shape; uint8 for uint8 input, else float64 (unclipped).
+
+    Raises
+    ------
+    ValueError
+        If ``threshold`` is not > 0, or the image or kernel is invalid.
+
+    References
+    ----------
+    Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Sections 5.7-5.8
+    (inverse and minimum mean square error filtering). The paper's eq. 3.
+    """
     if threshold <= 0:
         raise ValueError("threshold must be > 0")
 
@@ -144,9 +265,29 @@ def inverse_filter(image: np.ndarray, kernel: np.ndarray, threshold: float = 1e-
 
 
 def blind_kernel(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> np.ndarray | None:
-    """The kernel blind deblurring uses for ``image``: the linear kernel estimated from the
-    spectrum, or None when the detector finds no blur (the coarse length estimate, which is the
-    detector's score, is at most ``threshold`` px). The features are computed once for both."""
+    """The kernel that blind deblurring uses for an image, or None when no blur is detected.
+
+    The image is judged blurred when its coarse length estimate (the detector's score,
+    :func:`~blurloc.blur.blur_score`) exceeds ``threshold``; then the linear kernel of
+    :func:`~blurloc.blur.estimate_motion_blur` is returned. The features are computed once for
+    both steps.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) image, uint8 or float in [0, 1]; short side >= 16 px.
+    threshold : float
+        Blur length (px) above which the image counts as blurred.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        The estimated PSF c of eq. 1, or None for an image judged sharp.
+
+    References
+    ----------
+    The paper's Section III.A.1 (estimate the blur, then eq. 4).
+    """
     features = blur_features(image)
     if length_from_features(features) <= threshold:
         return None
@@ -156,10 +297,37 @@ def blind_kernel(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> np.nda
 def deblur_blind(
     image: np.ndarray, nsr: float | None = None, threshold: float = BLUR_THRESHOLD
 ) -> np.ndarray:
-    """Blind deblurring: detect blur (:func:`~blurloc.blur.detect_blur`), estimate its length and
-    angle from the spectrum (:func:`~blurloc.blur.estimate_motion_blur`), undo it by Wiener
-    deconvolution (eq. 4). An image judged sharp is returned unchanged (as a copy). Keeps the
-    dtype like :func:`wiener_deconvolve`.
+    r"""Blind deblurring of one image: detect the blur, estimate it, undo it by eq. 4.
+
+    :func:`blind_kernel` detects the blur and estimates its length and angle from the spectrum;
+    :func:`wiener_deconvolve` restores the image with that kernel:
+
+    .. math::
+
+        \tilde{x} = F^{-1}\left\{ \frac{\overline{F\{\hat{c}\}}}{|F\{\hat{c}\}|^2 + \mathrm{NSR}}
+        \, F\{b\} \right\}
+
+    An image judged sharp is returned unchanged (as a copy).
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) image, uint8 or float in [0, 1]; short side >= 16 px.
+    nsr : float, optional
+        The constant 1/SNR (> 0); default :func:`estimate_nsr` of the image.
+    threshold : float
+        Blur length (px) above which the image counts as blurred.
+
+    Returns
+    -------
+    numpy.ndarray
+        The restored image (or a copy of the input), same shape and dtype rules as
+        :func:`wiener_deconvolve`.
+
+    References
+    ----------
+    Wiener 1949; Gonzalez and Woods 2018 (see :func:`wiener_deconvolve`). The paper's Section
+    III.A.1 and eq. 4.
     """
     kernel = blind_kernel(image, threshold)
     return image.copy() if kernel is None else wiener_deconvolve(image, kernel, nsr)

@@ -17,9 +17,15 @@ SHARP_BELOW_PX = 1.5
 def calibrate_blur_threshold(
     scores: np.ndarray, blurred: np.ndarray, sharp_groups: np.ndarray | None = None
 ) -> float:
-    """The threshold that maximises balanced accuracy on labelled scores: the mean of the share
-    of blurred examples flagged and the share of sharp examples passed; midway between the two
-    scores around the cut.
+    r"""The threshold on blur scores that maximises balanced accuracy on labelled examples.
+
+    .. math::
+
+        \hat{t} = \arg\max_t \; \tfrac{1}{2}\Bigl( \frac{|\{i \in B : s_i > t\}|}{|B|}
+        + \frac{1}{G} \sum_{g=1}^{G} \frac{|\{i \in S_g : s_i \le t\}|}{|S_g|} \Bigr)
+
+    over cuts t midway between consecutive scores, for blurred examples B and sharp groups
+    :math:`S_g` (one group when ``sharp_groups`` is None); exact ties go to the lowest cut.
 
     Parameters
     ----------
@@ -36,6 +42,16 @@ def calibrate_blur_threshold(
     -------
     float
         The threshold, px.
+
+    Raises
+    ------
+    ValueError
+        If only one class is present.
+
+    References
+    ----------
+    Brodersen, Ong, Stephan and Buhmann, "The balanced accuracy and its posterior distribution",
+    ICPR 2010.
     """
     scores, blurred = np.asarray(scores, float), np.asarray(blurred, bool)
     if blurred.all() or not blurred.any():
@@ -57,7 +73,13 @@ def calibrate_blur_threshold(
 def detection_rates(
     scores: np.ndarray, blurred: np.ndarray, threshold: float
 ) -> tuple[float, float, float]:
-    """How a threshold on blur scores separates blurred from sharp frames.
+    r"""How a threshold on blur scores separates blurred from sharp frames.
+
+    .. math::
+
+        \text{flagged} = \frac{|\{i \in B : s_i > t\}|}{|B|}, \quad
+        \text{passed} = \frac{|\{i \notin B : s_i \le t\}|}{N - |B|}, \quad
+        \text{balanced} = \frac{\text{flagged} + \text{passed}}{2}
 
     Parameters
     ----------
@@ -71,8 +93,13 @@ def detection_rates(
     Returns
     -------
     flagged, passed, balanced : float
-        Share of blurred frames flagged, share of sharp frames passed, and their mean
-        (balanced accuracy).
+        Share of blurred frames flagged (sensitivity), share of sharp frames passed
+        (specificity), and their mean (balanced accuracy).
+
+    References
+    ----------
+    Brodersen, Ong, Stephan and Buhmann, "The balanced accuracy and its posterior distribution",
+    ICPR 2010.
     """
     scores, blurred = np.asarray(scores, float), np.asarray(blurred, bool)
     flagged = float((scores[blurred] > threshold).mean())
@@ -89,14 +116,65 @@ BLUR_THRESHOLD = 2.19
 
 
 def blur_score(image: np.ndarray) -> float:
-    """Blur score of an image: its coarse blind blur length in px (:func:`blur_features` and the
-    length model, without the sinc refinement). Grows with blur; about 0 for sharp frames.
-    Images with a side under MIN_ANALYSIS_SIDE px are refused (ValueError)."""
+    r"""Blur score of an image: its coarse blind blur length in px.
+
+    .. math::
+
+        s(b) = L_{\text{coarse}}(b)
+
+    the length of :func:`~blurloc.blur.length_from_features` on :func:`blur_features` (without
+    the sinc refinement of :func:`~blurloc.blur.estimate_motion_blur`). It grows with blur and is
+    about 0 for sharp frames.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) image, uint8 or float in [0, 1]; short side >= MIN_ANALYSIS_SIDE px.
+
+    Returns
+    -------
+    float
+        The score, px of the image given (>= 0).
+
+    Raises
+    ------
+    ValueError
+        If a side is under MIN_ANALYSIS_SIDE px.
+
+    References
+    ----------
+    Yitzhaky and Kopeika, "Identification of blur parameters from motion blurred images", CVGIP
+    1997. The paper's Section III.A.1 (is the image blurred?).
+    """
     return length_from_features(blur_features(image))
 
 
 def detect_blur(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> tuple[bool, float]:
-    """Whether ``image`` is motion-blurred (its :func:`blur_score`, the estimated blur length in
-    px, exceeds ``threshold``), and the score."""
+    r"""Whether an image is motion-blurred, and its blur score.
+
+    .. math::
+
+        \text{blurred} \iff s(b) > t
+
+    with s the estimated blur length (:func:`blur_score`) and t the threshold.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) image, uint8 or float in [0, 1]; short side >= MIN_ANALYSIS_SIDE px.
+    threshold : float
+        t, px (default BLUR_THRESHOLD, calibrated by :func:`calibrate_blur_threshold`).
+
+    Returns
+    -------
+    blurred : bool
+        True when the score exceeds the threshold.
+    score : float
+        The score, px.
+
+    References
+    ----------
+    The paper's Section III.A.1 and Fig. 3 (blurred frames are detected, then deblurred).
+    """
     score = blur_score(image)
     return score > threshold, score

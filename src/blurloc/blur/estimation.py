@@ -29,7 +29,14 @@ class BlurEstimate:
     fit: float
 
     def kernel(self) -> np.ndarray:
-        """The linear motion kernel of this estimate."""
+        """The linear motion kernel of this estimate (:func:`~blurloc.blur.motion_kernel`, at least
+        1 px long).
+
+        Returns
+        -------
+        numpy.ndarray
+            The PSF c of eq. 1 for ``max(length_px, 1)`` px at ``angle_deg``.
+        """
         return motion_kernel(max(self.length_px, 1.0), self.angle_deg)
 
 
@@ -128,7 +135,7 @@ def estimate_motion_blur(
     features: BlurFeatures | None = None,
     agreement: tuple[float, float] = SINC_AGREEMENT,
 ) -> BlurEstimate:
-    """Blind estimate of the length and angle of motion blur, from 1 px to tens of px.
+    r"""Blind estimate of the length and angle of motion blur, from 1 px to tens of px.
 
     Coarse, for any blur: :func:`blur_features` gives the direction; the length model (a small
     perceptron on the features, fitted on the stand-in's training split) gives the extent.
@@ -138,6 +145,17 @@ def estimate_motion_blur(
     refined to 0.1°) and fitted by log sinc^2(L r / N) (L on a 0.5 px grid, refined to
     0.02 px); kept when it agrees with the coarse estimate (SINC_AGREEMENT: 0.67 to 2 times its
     length by default; direction within 20°), which rejects the zeros of content or noise.
+
+    Along the motion direction d the spectrum of a length-L blur falls as
+
+    .. math::
+
+        |F\{b\}(r)|^2 \approx |F\{x\}(r)|^2 \, \mathrm{sinc}^2\!\left(\frac{L r}{N}\right),
+        \qquad \hat{L} = \arg\max_L \; \mathrm{corr}\bigl(P(r),
+        \log(\mathrm{sinc}^2(L r / N) + 10^{-3})\bigr)
+
+    with P the whitened log spectrum projected onto d (frequency r in bins of an N-point
+    DFT); its zeros lie every N / L bins.
 
     Parameters
     ----------

@@ -88,7 +88,7 @@ class BlurFeatures:
 
 
 def blur_features(image: np.ndarray) -> BlurFeatures:
-    """Spectral and gradient features of an image, for blur of about 1-15 px at 160x120 and
+    r"""Spectral and gradient features of an image, for blur of about 1-15 px at 160x120 and
     2-40 px at 640x480.
 
     An image whose short side exceeds ANALYSIS_SIDE px is area-averaged to it; the Welch power
@@ -101,6 +101,14 @@ def blur_features(image: np.ndarray) -> BlurFeatures:
     profile across d is the scene's own spectrum, against which the one along d shows the blur.
     Gradient energies at two scales (Crété-Roffet et al.'s re-blur idea: blur removes the fine
     gradients, not the coarse ones) and the noise σ complete them.
+
+    The direction comes from the second angular harmonic of the fall-off :math:`D_s` of sector
+    s (at angle :math:`\phi_s`), since blur along d multiplies the spectrum by
+
+    .. math::
+
+        |F\{c\}(f)|^2 = \mathrm{sinc}^2(L\, f \cdot d), \qquad
+        \hat{d} = \tfrac{1}{2} \arg \sum_s D_s\, e^{2 i \phi_s}
 
     Parameters
     ----------

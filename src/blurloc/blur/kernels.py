@@ -32,11 +32,42 @@ def _splat(points: np.ndarray, weights: np.ndarray, size: int) -> np.ndarray:
 
 
 def motion_kernel(length_px: float, angle_deg: float, size: int | None = None) -> np.ndarray:
-    """Linear motion PSF: a segment of ``length_px`` pixels at ``angle_deg``, anti-aliased.
+    r"""Linear motion PSF: a segment of ``length_px`` pixels at ``angle_deg``, anti-aliased.
+
+    The kernel of a camera moving at constant speed along a straight line during the exposure,
+    the c of eq. 1:
+
+    .. math::
+
+        c(x, y) = \frac{1}{L} \int_{-L/2}^{L/2}
+        \delta(x - t \cos\theta,\; y + t \sin\theta)\, dt
 
     The segment is centred on the kernel centre and sampled 16 times per pixel with bilinear
-    weights, so sub-pixel lengths and any angle are represented. ``size`` (odd) defaults to the
-    smallest odd size that holds the segment.
+    weights, so sub-pixel lengths and any angle are represented; the kernel sums to 1.
+
+    Parameters
+    ----------
+    length_px : float
+        Length L of the segment, px (> 0).
+    angle_deg : float
+        Direction :math:`\theta`, degrees counter-clockwise from the horizontal (y up).
+    size : int, optional
+        Odd side of the kernel; default the smallest odd size that holds the segment.
+
+    Returns
+    -------
+    numpy.ndarray
+        (size, size) float64 kernel summing to 1.
+
+    Raises
+    ------
+    ValueError
+        If the length is not > 0, or ``size`` is even or too small for the segment.
+
+    References
+    ----------
+    Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Section 5.6
+    (estimating the degradation function: motion blur). The paper's eq. 1.
     """
     length_px = float(length_px)
     if not np.isfinite(length_px) or length_px <= 0:
@@ -55,10 +86,42 @@ def motion_kernel(length_px: float, angle_deg: float, size: int | None = None) -
 def trajectory_kernel(
     trajectory_px: np.ndarray, size: int | None = None, origin: np.ndarray | None = None
 ) -> np.ndarray:
-    """PSF of a camera-shake path: image positions (N, 2; x right, y down, px) at equal time
-    steps over the exposure, sampled 16 times per pixel. ``origin`` (2,) is the position placed
-    at the kernel centre (default: the path's mean); pass the mid-exposure position to get the
-    kernel that maps a mid-exposure sharp frame to the blurred one without a shift."""
+    r"""PSF of a camera-shake path: the time average of a point moving along the path.
+
+    .. math::
+
+        c(x, y) = \frac{1}{T} \int_0^T \delta(x - p_x(t),\; y - p_y(t))\, dt
+
+    for image positions :math:`p(t)` at equal time steps over the exposure, linearly interpolated
+    between them and sampled 16 times per pixel with bilinear weights (each step gets equal time).
+
+    Parameters
+    ----------
+    trajectory_px : numpy.ndarray
+        (N, 2) finite image positions (x right, y down, px) at equal time steps; one position
+        gives a sharp (delta) kernel.
+    size : int, optional
+        Side of the kernel; default the smallest odd size that holds the path.
+    origin : numpy.ndarray, optional
+        (2,) position placed at the kernel centre (default the path's mean). Pass the
+        mid-exposure position to get the kernel that maps a mid-exposure sharp frame to the
+        blurred one without a shift.
+
+    Returns
+    -------
+    numpy.ndarray
+        (size, size) float64 kernel summing to 1.
+
+    Raises
+    ------
+    ValueError
+        If the path is not a finite (N, 2) array with N >= 1.
+
+    References
+    ----------
+    Levin, Weiss, Durand and Freeman, "Understanding and evaluating blind deconvolution
+    algorithms", CVPR 2009 (camera-shake kernels as the image path of a point). The paper's eq. 1.
+    """
     path = np.asarray(trajectory_px, float)
     if path.ndim != 2 or path.shape[1] != 2 or len(path) < 1 or not np.isfinite(path).all():
         raise ValueError("trajectory must be a finite (N, 2) array of pixel positions")
@@ -77,12 +140,19 @@ def trajectory_kernel(
 
 
 def shake_path(extent_px: float, rng: np.random.Generator, steps: int = 500) -> np.ndarray:
-    """A random hand-shake path over one exposure, for kernels like those of real camera shake.
+    r"""A random hand-shake path over one exposure, for kernels like those of real camera shake.
 
     Boracchi and Foi's model: a point moves at constant speed; at each step its velocity is
     pushed by a Gaussian term and pulled back towards the start (a centripetal term), both
-    scaled by a random "anxiety", and now and then reversed by an abrupt shake. The shape's
-    parameters are drawn per path from ``rng``; the path is then scaled so that the longer side
+    scaled by a random "anxiety", and now and then reversed by an abrupt shake:
+
+    .. math::
+
+        v_{k+1} \propto v_k + a\,(g\, n_k - c\, p_k)\, s + \text{(abrupt turn)}, \qquad
+        p_{k+1} = p_k + v_{k+1}
+
+    with :math:`|v_{k+1}| = s`, :math:`n_k` complex Gaussian noise and the shape parameters
+    a (anxiety), g, c drawn per path from ``rng``. The path is then scaled so that the longer side
     of its bounding box is ``extent_px``.
 
     Parameters
@@ -99,6 +169,11 @@ def shake_path(extent_px: float, rng: np.random.Generator, steps: int = 500) -> 
     numpy.ndarray
         (steps, 2) positions (x right, y down, px) at equal time steps, for
         :func:`trajectory_kernel`.
+
+    Raises
+    ------
+    ValueError
+        If ``extent_px`` is not > 0 or ``steps`` < 2.
 
     References
     ----------
@@ -127,7 +202,35 @@ def shake_path(extent_px: float, rng: np.random.Generator, steps: int = 500) -> 
 
 
 def check_kernel(kernel: np.ndarray, image_shape: tuple[int, ...] | None = None) -> np.ndarray:
-    """A kernel as float64 normalised to sum 1, or a ValueError saying what is wrong."""
+    r"""A kernel as float64 normalised to sum 1, or a ValueError saying what is wrong.
+
+    .. math::
+
+        c \leftarrow c / \textstyle\sum_{m,n} c(m, n)
+
+    so that the blur of eq. 1 keeps the image's mean brightness.
+
+    Parameters
+    ----------
+    kernel : numpy.ndarray
+        Non-empty, finite 2-D array whose sum is not 0.
+    image_shape : tuple of int, optional
+        Shape of the image it will be applied to; the kernel may not be larger.
+
+    Returns
+    -------
+    numpy.ndarray
+        The normalised kernel, float64.
+
+    Raises
+    ------
+    ValueError
+        If the kernel is not 2-D, is empty, holds NaN or inf, sums to 0, or exceeds the image.
+
+    References
+    ----------
+    The paper's eq. 1 (c is a PSF).
+    """
     kernel = np.asarray(kernel, float)
     if kernel.ndim != 2 or kernel.size == 0:
         raise ValueError(f"kernel must be a non-empty 2-D array, got shape {kernel.shape}")
@@ -150,11 +253,40 @@ def blur_image(
     boundary: str = "reflect",
     rng: np.random.Generator | None = None,
 ) -> np.ndarray:
-    """The blur model of eq. 1, b = c * x + η: convolve with ``kernel``, add Gaussian noise.
+    r"""The blur model of eq. 1: convolve with ``kernel`` and add Gaussian noise.
 
-    ``boundary`` is how the image continues beyond its border: ``reflect`` (mirror, without
-    repeating the edge pixel), ``wrap`` (periodic, the model the DFT assumes) or ``constant``
-    (zeros). Returns float64 (noise is not clipped); uint8 input is scaled to [0, 1] first.
+    .. math::
+
+        b = c * x + \eta, \qquad \eta \sim \mathcal{N}(0, \sigma^2)
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) sharp image x, uint8 (scaled to [0, 1] first) or float.
+    kernel : numpy.ndarray
+        PSF c (normalised to sum 1 here), no larger than the image.
+    noise_sigma : float
+        :math:`\sigma` of the signal-independent noise :math:`\eta` (>= 0).
+    boundary : str
+        How the image continues beyond its border: ``reflect`` (mirror, without repeating the
+        edge pixel), ``wrap`` (periodic, the model the DFT assumes) or ``constant`` (zeros).
+    rng : numpy.random.Generator, optional
+        Source of the noise (default a fresh generator).
+
+    Returns
+    -------
+    numpy.ndarray
+        The blurred image b, float64, same shape (noise is not clipped).
+
+    Raises
+    ------
+    ValueError
+        On an unknown ``boundary``, a negative ``noise_sigma`` or an invalid kernel.
+
+    References
+    ----------
+    Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Section 5.6
+    (estimating the degradation function: motion blur). The paper's eq. 1.
     """
     image = as_float_image(image)
     kernel = check_kernel(kernel, image.shape)

@@ -45,13 +45,44 @@ class LengthModel:
     members: tuple[Layers, ...]
 
     def predict(self, values: np.ndarray) -> np.ndarray:
-        """Extents (N,) in px at the analysis scale from feature values (N, k) or (k,): the
-        mean of the members' outputs."""
+        r"""Extents (N,) in px at the analysis scale: the mean of the members' outputs.
+
+        .. math::
+
+            \hat{L}(v) = \frac{1}{M} \sum_{m=1}^{M} f_m\!\left(\frac{v - \mu}{s}\right)
+
+        for M perceptrons :math:`f_m` (tanh hidden layers, linear output) on features v
+        standardised by ``mean`` :math:`\mu` and ``spread`` s.
+
+        Parameters
+        ----------
+        values : numpy.ndarray
+            Feature values (N, k) or (k,) (``BlurFeatures.values``).
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) extents, px at the analysis scale (not clipped at 0).
+
+        References
+        ----------
+        Hornik, Stinchcombe and White, "Multilayer feedforward networks are universal
+        approximators", Neural Networks 2(5), 1989. Lakshminarayanan, Pritzel and Blundell,
+        "Simple and scalable predictive uncertainty estimation using deep ensembles", NeurIPS
+        2017 (averaging networks trained from different initial weights).
+        """
         inputs = (np.atleast_2d(values) - self.mean) / self.spread
         return np.mean([_perceptron(layers, inputs) for layers in self.members], axis=0)
 
     def save(self, path: str | os.PathLike) -> None:
-        """Write the model to an ``.npz`` file."""
+        """Write the model to an ``.npz`` file (plain arrays: ``mean``, ``spread`` and each member's
+        ``member{m}_weight{n}`` and ``member{m}_bias{n}``).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file to write (``numpy.savez`` adds ``.npz`` when missing).
+        """
         arrays = {"mean": self.mean, "spread": self.spread}
         for member, layers in enumerate(self.members):
             for number, (weight, bias) in enumerate(layers):
@@ -61,7 +92,18 @@ class LengthModel:
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> LengthModel:
-        """Read a model written by :meth:`save`."""
+        """Read a model written by :meth:`save` (arrays only; no pickles are loaded).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            An ``.npz`` file written by :meth:`save`.
+
+        Returns
+        -------
+        LengthModel
+            The model.
+        """
         with np.load(path) as arrays:
             names = arrays.files
             count = len({name.split("_")[0] for name in names if name.startswith("member")})
@@ -76,7 +118,13 @@ class LengthModel:
 
 @functools.cache
 def default_length_model() -> LengthModel:
-    """The shipped length model (LENGTH_MODEL_PATH), read once."""
+    """The shipped length model (LENGTH_MODEL_PATH), read once per process.
+
+    Returns
+    -------
+    LengthModel
+        The model that :func:`fit_length_model` fitted on the stand-in's training split.
+    """
     return LengthModel.load(LENGTH_MODEL_PATH)
 
 
@@ -125,10 +173,17 @@ def fit_length_model(
     seed: int = 0,
     members: int = 5,
 ) -> LengthModel:
-    """Fit the length model: ``members`` two-hidden-layer tanh perceptrons, each by least
+    r"""Fit the length model: ``members`` two-hidden-layer tanh perceptrons, each by least
     squares with full-batch Adam from its own initial weights, whose outputs are averaged (a
     seed ensemble: one perceptron's estimates depend on its initial weights as much as the
     features allow, and the mean of several varies less).
+
+    Each member minimises the mean squared error plus Adam's L2 term (λ = ``weight_decay``):
+
+    .. math::
+
+        \min_{\theta_m} \frac{1}{N} \sum_{i=1}^{N} (f_m(z_i; \theta_m) - L_i)^2
+        + \frac{\lambda}{2} \|\theta_m\|^2, \qquad z_i = (v_i - \mu) / s
 
     Parameters
     ----------
@@ -151,6 +206,19 @@ def fit_length_model(
     -------
     LengthModel
         The fitted model.
+
+    Raises
+    ------
+    ValueError
+        If the shapes do not match, N < 2, a value is not finite or ``members`` < 1.
+
+    References
+    ----------
+    Hornik, Stinchcombe and White, "Multilayer feedforward networks are universal
+    approximators", Neural Networks 2(5), 1989. Lakshminarayanan, Pritzel and Blundell,
+    "Simple and scalable predictive uncertainty estimation using deep ensembles", NeurIPS
+    2017 (averaging networks trained from different initial weights).
+    Kingma and Ba, "Adam: a method for stochastic optimization", ICLR 2015.
     """
     features = np.asarray(features, np.float64)
     extents = np.asarray(extents_px, np.float64)
@@ -168,7 +236,33 @@ def fit_length_model(
 
 
 def length_from_features(features: BlurFeatures, model: LengthModel | None = None) -> float:
-    """Coarse blur length (px of the image the features came from, >= 0) by the length model
-    (default: the shipped one)."""
+    r"""Coarse blur length of an image from its features, by the length model.
+
+    .. math::
+
+        L = s \cdot \max(\hat{L}(v), 0)
+
+    with :math:`\hat{L}` the model's extent at the analysis scale (:meth:`LengthModel.predict`)
+    and s the factor from analysis pixels to the image's pixels (``features.scale``).
+
+    Parameters
+    ----------
+    features : BlurFeatures
+        :func:`~blurloc.blur.blur_features` of the image.
+    model : LengthModel, optional
+        Default: :func:`default_length_model`.
+
+    Returns
+    -------
+    float
+        Blur length, px of the image the features came from (>= 0).
+
+    References
+    ----------
+    Hornik, Stinchcombe and White, "Multilayer feedforward networks are universal
+    approximators", Neural Networks 2(5), 1989. Lakshminarayanan, Pritzel and Blundell,
+    "Simple and scalable predictive uncertainty estimation using deep ensembles", NeurIPS
+    2017 (averaging networks trained from different initial weights).
+    """
     model = model or default_length_model()
     return max(float(model.predict(features.values)[0]), 0.0) * features.scale

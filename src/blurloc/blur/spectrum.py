@@ -12,8 +12,27 @@ from ..images import check_image
 
 
 def to_gray(image: np.ndarray) -> np.ndarray:
-    """Float gray image in [0, 1] (mean of the channels of an RGB image); float32 unless the
-    input is float64."""
+    r"""Float gray image in [0, 1]: the mean of the channels of an RGB image.
+
+    .. math::
+
+        g = \frac{R + G + B}{3}
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) image, uint8 (scaled by 1/255) or float in [0, 1].
+
+    Returns
+    -------
+    numpy.ndarray
+        (H, W) gray image, float64 for float64 input, else float32.
+
+    References
+    ----------
+    Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Section 6.2 (the
+    intensity of an RGB pixel as the mean of its components).
+    """
     image = check_image(image)
     dtype = np.float64 if image.dtype == np.float64 else np.float32
     scale = 1.0 / 255.0 if image.dtype == np.uint8 else 1.0
@@ -30,11 +49,40 @@ def _hann(size: int) -> np.ndarray:
 
 
 def log_power_spectrum(image: np.ndarray, window: int = 256) -> np.ndarray:
-    """Centred log power spectrum, averaged over Hann-windowed tiles (Welch's method).
+    r"""Centred log power spectrum, averaged over Hann-windowed tiles (Welch's method).
 
-    Tiles of ``window`` x ``window`` px (the whole image, cropped square, if it is smaller)
-    overlap by half; the Hann window removes the border discontinuity that would otherwise draw
-    a bright cross through the spectrum. Returns log(mean |FFT|^2), zero frequency at the centre.
+    .. math::
+
+        S(u, v) = \log \frac{1}{K} \sum_{k=1}^{K}
+        \bigl| F\{ w \cdot (g_k - \bar{g}_k) \}(u, v) \bigr|^2
+
+    over K tiles :math:`g_k` of ``window`` x ``window`` px overlapping by half (the whole image,
+    cropped square, when it is smaller), each minus its mean and times the 2-D Hann window w,
+    which removes the border discontinuity that would otherwise draw a bright cross through the
+    spectrum. Linear motion blur multiplies it by :math:`|\mathrm{sinc}|^2` across the motion
+    (eq. 2), whose zeros show as dark lines.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) image, uint8 or float in [0, 1]; short side >= 8 px.
+    window : int
+        Tile side, px.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, n) float64 log power, zero frequency at the centre (n even, at most ``window``).
+
+    Raises
+    ------
+    ValueError
+        If the image is smaller than 8 px on a side.
+
+    References
+    ----------
+    Welch, "The use of fast Fourier transform for the estimation of power spectra", IEEE Trans.
+    Audio Electroacoust. 15(2), 1967. The paper's eq. 2.
     """
     gray = to_gray(check_image(image))
     size = min(window, *gray.shape)
@@ -61,9 +109,38 @@ _IMMERKAER = np.float32([[1.0, -2.0, 1.0], [-2.0, 4.0, -2.0], [1.0, -2.0, 1.0]])
 
 
 def estimate_noise_sigma(image: np.ndarray) -> float:
-    """Standard deviation of Gaussian noise in ``image`` ([0, 1] scale), by Immerkær's method
-    (1996): the mean absolute response to a 3x3 kernel that cancels smooth image structure,
-    times sqrt(pi / 2) / 6. Channels are averaged."""
+    r"""Standard deviation of Gaussian noise in an image ([0, 1] scale), by Immerkær's method.
+
+    .. math::
+
+        \hat{\sigma} = \sqrt{\frac{\pi}{2}}\, \frac{1}{6 (W - 2)(H - 2)}
+        \sum_{x, y} \bigl| (I * N)(x, y) \bigr|, \qquad
+        N = \begin{pmatrix} 1 & -2 & 1 \\ -2 & 4 & -2 \\ 1 & -2 & 1 \end{pmatrix}
+
+    The 3x3 kernel N cancels smooth image structure (the difference of two Laplacians), so what
+    is left of the interior pixels is mostly noise; channels are averaged. This estimates the
+    :math:`\eta` of eq. 1.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) image, uint8 (scaled by 1/255) or float; at least 3x3 px.
+
+    Returns
+    -------
+    float
+        :math:`\hat{\sigma}` on the [0, 1] intensity scale.
+
+    Raises
+    ------
+    ValueError
+        If the image is smaller than 3x3 px.
+
+    References
+    ----------
+    Immerkær, "Fast noise variance estimation", Computer Vision and Image Understanding 64(2),
+    1996. The paper's eq. 1 (the noise term).
+    """
     image = check_image(image)
     if min(image.shape[:2]) < 3:
         raise ValueError("image must be at least 3x3 pixels to estimate noise")
