@@ -18,12 +18,20 @@ def _pair(reference: np.ndarray, estimate: np.ndarray) -> tuple[np.ndarray, np.n
 
 
 def psnr(reference: np.ndarray, estimate: np.ndarray, data_range: float) -> float:
-    """Peak signal-to-noise ratio, ``10 log10(R^2 / MSE)``, MSE over all pixels and channels.
+    r"""Peak signal-to-noise ratio (eq. 5-6), the MSE over all pixels and channels.
+
+    .. math::
+
+        \mathrm{MSE} = \frac{1}{MN} \sum_{x=1}^{M} \sum_{y=1}^{N}
+        \bigl(f(x, y) - \tilde{f}(x, y)\bigr)^2, \qquad
+        \mathrm{PSNR} = 10 \log_{10} \frac{R^2}{\mathrm{MSE}}
+
+    (the mean also runs over the channels of an RGB image).
 
     Parameters
     ----------
     reference, estimate : numpy.ndarray
-        Images of one shape, (H, W) or (H, W, 3), uint8 or float.
+        Images f and :math:`\tilde{f}` of one shape, (H, W) or (H, W, 3), uint8 or float.
     data_range : float
         R: 255 for uint8, 1 for [0, 1] floats (eq. 6 uses 255).
 
@@ -32,9 +40,15 @@ def psnr(reference: np.ndarray, estimate: np.ndarray, data_range: float) -> floa
     float
         dB; ``inf`` for identical images.
 
+    Raises
+    ------
+    ValueError
+        If ``data_range`` is not > 0 or the shapes differ.
+
     References
     ----------
-    Eq. 5-6 of the paper.
+    Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Section 8.1
+    (fidelity criteria). Eq. 5-6 of the paper.
     """
     if data_range <= 0:
         raise ValueError("data_range must be > 0")
@@ -44,26 +58,40 @@ def psnr(reference: np.ndarray, estimate: np.ndarray, data_range: float) -> floa
 
 
 def ssim(reference: np.ndarray, estimate: np.ndarray, data_range: float) -> float:
-    """Structural similarity through scikit-image with the settings of Wang et al. (2004).
+    r"""Structural similarity (eq. 7) through scikit-image, with Wang et al.'s settings.
 
-    Gaussian window σ = 1.5 (11x11), K1 = 0.01, K2 = 0.03, population covariances; RGB is the
-    mean of the per-channel SSIMs.
+    .. math::
+
+        \mathrm{SSIM}(f, \tilde{f}) =
+        \frac{(2 \mu_f \mu_{\tilde{f}} + C_1)(2 \sigma_{f\tilde{f}} + C_2)}
+        {(\mu_f^2 + \mu_{\tilde{f}}^2 + C_1)(\sigma_f^2 + \sigma_{\tilde{f}}^2 + C_2)},
+        \qquad C_1 = (K_1 R)^2,\; C_2 = (K_2 R)^2
+
+    computed in Gaussian windows (σ = 1.5, 11x11) and averaged over the image; K1 = 0.01,
+    K2 = 0.03, population covariances; RGB is the mean of the per-channel SSIMs. (The paper's
+    eq. 7 prints a + between the numerator's factors; Wang et al.'s product is used.)
 
     Parameters
     ----------
     reference, estimate : numpy.ndarray
-        Images of one shape, (H, W) or (H, W, 3), uint8 or float.
+        Images f and :math:`\tilde{f}` of one shape, (H, W) or (H, W, 3), uint8 or float.
     data_range : float
-        255 for uint8, 1 for [0, 1] floats.
+        R: 255 for uint8, 1 for [0, 1] floats.
 
     Returns
     -------
     float
         SSIM, at most 1.
 
+    Raises
+    ------
+    ValueError
+        If ``data_range`` is not > 0 or the shapes differ.
+
     References
     ----------
-    Eq. 7 of the paper.
+    Wang, Bovik, Sheikh and Simoncelli, "Image quality assessment: from error visibility to
+    structural similarity", IEEE Trans. Image Process. 13(4), 2004. Eq. 7 of the paper.
     """
     if data_range <= 0:
         raise ValueError("data_range must be > 0")
@@ -75,7 +103,12 @@ def ssim(reference: np.ndarray, estimate: np.ndarray, data_range: float) -> floa
 
 
 def mean_frame_psnr(pairs: list[tuple[np.ndarray, np.ndarray]]) -> float:
-    """Mean PSNR (eq. 6, data range 255) over every frame of several videos.
+    r"""Mean PSNR (eq. 6, data range 255) over every frame of several videos.
+
+    .. math::
+
+        \overline{\mathrm{PSNR}} = \frac{1}{\sum_v T_v} \sum_{v} \sum_{t=1}^{T_v}
+        \mathrm{PSNR}(S_{v,t}, L_{v,t})
 
     Parameters
     ----------
@@ -87,6 +120,10 @@ def mean_frame_psnr(pairs: list[tuple[np.ndarray, np.ndarray]]) -> float:
     -------
     float
         The mean over all frames of all pairs, dB.
+
+    References
+    ----------
+    Eq. 5-6 of the paper (per frame).
     """
     return float(np.mean([psnr(truth, frame, 255.0) for video, sharp in pairs
                           for frame, truth in zip(video, sharp, strict=True)]))  # fmt: skip
@@ -100,12 +137,16 @@ FREQUENCY_BAND_EDGES = (0.0, 1 / 32, 1 / 16, 1 / 8, 1 / 4, np.inf)
 def band_squared_error(
     reference: np.ndarray, estimate: np.ndarray, edges: tuple[float, ...] = FREQUENCY_BAND_EDGES
 ) -> np.ndarray:
-    """Summed squared error of ``estimate`` split by spatial frequency (Parseval's theorem).
+    r"""Summed squared error of ``estimate`` split by spatial frequency (Parseval's theorem).
 
-    The 2-D DFT of each error image (estimate minus reference, per frame and channel), its
-    energy divided by the pixel count, summed over the frequencies whose radius
-    ``sqrt(fx^2 + fy^2)`` (cycles per pixel) lies in ``[edges[k], edges[k + 1])``. The bands
-    together give the summed squared error exactly, so eq. 6's MSE, and a PSNR gain, split into
+    .. math::
+
+        \sum_{x, y} e(x, y)^2 = \frac{1}{HW} \sum_{u, v} |E(u, v)|^2, \qquad
+        \mathrm{SE}_k = \frac{1}{HW} \sum_{\rho(u, v) \in [\rho_k, \rho_{k+1})} |E(u, v)|^2
+
+    for the DFT E of each error image e (estimate minus reference, per frame and channel) and the
+    radius :math:`\rho = \sqrt{f_x^2 + f_y^2}` of each frequency (cycles per pixel). The bands
+    together give the summed squared error exactly, so eq. 5's MSE, and a PSNR gain, split into
     the bands' shares.
 
     Parameters
@@ -127,6 +168,11 @@ def band_squared_error(
     ValueError
         If the shapes differ or are not (H, W, C) / (T, H, W, C), or the edges do not start
         at 0, increase and cover the spectrum.
+
+    References
+    ----------
+    Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Section 4.6
+    (Parseval's theorem). Eq. 5 of the paper.
     """
     reference, estimate = np.asarray(reference), np.asarray(estimate)
     if reference.shape != estimate.shape or reference.ndim not in (3, 4):
@@ -146,7 +192,11 @@ def band_squared_error(
 
 
 def position_errors(pair: PosePair) -> np.ndarray:
-    """Position error of every frame, ``||c_est - c_ref||_2``.
+    r"""Position error of every frame (eq. 12).
+
+    .. math::
+
+        P_{\text{error}} = \lVert C_{\text{est}} - C_{\text{gt}} \rVert_2
 
     Parameters
     ----------
@@ -160,13 +210,21 @@ def position_errors(pair: PosePair) -> np.ndarray:
 
     References
     ----------
-    Eq. 12 of the paper.
+    Kendall, Grimes and Cipolla, "PoseNet: a convolutional network for real-time 6-DOF
+    camera relocalization", ICCV 2015. Eq. 12 of the paper.
     """
     return np.linalg.norm(pair.estimate_positions - pair.reference_positions, axis=-1)
 
 
 def orientation_errors_deg(pair: PosePair) -> np.ndarray:
-    """Orientation error of every frame: the angle of ``R_ref^T R_est``.
+    r"""Orientation error of every frame (eq. 13): the angle of the rotation between the two.
+
+    .. math::
+
+        2 \cos |\alpha| = \operatorname{trace}(R_{\text{gt}}^{-1} R_{\text{est}}) - 1
+        \iff |\alpha| = 2 \arccos |\langle q_{\text{gt}}, q_{\text{est}} \rangle|
+
+    (the paper prints eq. 13 without the - 1, which the angle of a rotation matrix needs).
 
     Parameters
     ----------
@@ -176,11 +234,13 @@ def orientation_errors_deg(pair: PosePair) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
-        Shape (N,), degrees in [0, 180]; ``2 arccos |<q_ref, q_est>|``.
+        Shape (N,), degrees in [0, 180].
 
     References
     ----------
-    Eq. 13 of the paper (see :func:`blurloc.poses.rotation_angles_deg`).
+    Kendall, Grimes and Cipolla, "PoseNet: a convolutional network for real-time 6-DOF
+    camera relocalization", ICCV 2015. Eq. 13 of the paper (see
+    :func:`blurloc.poses.rotation_angles_deg`).
     """
     return rotation_angles_deg(pair.reference_rotations, pair.estimate_rotations)
 
@@ -190,7 +250,11 @@ ACCURACY_THRESHOLDS = ((0.25, 2.0), (0.5, 5.0), (5.0, 10.0))
 
 
 def error_statistics(values: np.ndarray) -> dict[str, float]:
-    """Median, mean and root-mean-square of per-frame errors.
+    r"""Median, mean and root-mean-square of per-frame errors.
+
+    .. math::
+
+        \mathrm{RMSE} = \sqrt{\frac{1}{n} \sum_{i=1}^{n} e_i^2}
 
     Parameters
     ----------
@@ -201,6 +265,12 @@ def error_statistics(values: np.ndarray) -> dict[str, float]:
     -------
     dict
         ``{"median", "mean", "rmse"}`` as floats, in the unit of ``values``.
+
+    References
+    ----------
+    Eq. 17 of the paper (the RMSE of the errors). Kendall, Grimes and Cipolla, "PoseNet: a
+    convolutional network for real-time 6-DOF camera relocalization", ICCV 2015 (median errors,
+    as 7-Scenes results are reported).
     """
     values = np.asarray(values, float)
     return {"median": float(np.median(values)), "mean": float(np.mean(values)),
@@ -208,17 +278,22 @@ def error_statistics(values: np.ndarray) -> dict[str, float]:
 
 
 def combined_errors(pair: PosePair, beta: float = 0.8) -> np.ndarray:
-    """Per-frame value of eq. 14, ``||c - c^|| + beta ||q - q^||``.
+    r"""Per-frame value of eq. 14, the package's definition of the paper's "combined" error.
 
-    This is the package's definition of the paper's undefined "combined" error; both
-    quaternions are unit with ``w >= 0`` (the convention of :mod:`blurloc.poses`).
+    .. math::
+
+        \ell = \lVert C_{\text{est}} - C_{\text{gt}} \rVert_2
+        + \beta \lVert q_{\text{est}} - q_{\text{gt}} \rVert_2
+
+    Both quaternions are unit with ``w >= 0`` (the convention of :mod:`blurloc.poses`), so the
+    paper's normalisation :math:`R_{gt} / \lVert R_{gt} \rVert` is already done.
 
     Parameters
     ----------
     pair : PosePair
         Reference and estimated poses of N frames.
     beta : float
-        Weight of the quaternion distance (the paper's 0.8).
+        :math:`\beta`, the weight of the quaternion distance (the paper's 0.8).
 
     Returns
     -------
@@ -227,14 +302,23 @@ def combined_errors(pair: PosePair, beta: float = 0.8) -> np.ndarray:
 
     References
     ----------
-    Eq. 14 of the paper.
+    Kendall, Grimes and Cipolla, "PoseNet: a convolutional network for real-time 6-DOF
+    camera relocalization", ICCV 2015. Eq. 14 of the paper.
     """
     rotation = np.linalg.norm(pair.estimate_quaternions - pair.reference_quaternions, axis=1)
     return position_errors(pair) + beta * rotation
 
 
 def pose_summary(pair: PosePair, beta: float = 0.8) -> dict:
-    """Every pose metric of one set of frames.
+    r"""Every pose metric of one set of frames (eq. 12-17).
+
+    .. math::
+
+        \mathrm{MAE} = \frac{1}{n} \sum_{i=1}^{n} |y_i - x_i|, \quad
+        \mathrm{MSE} = \frac{1}{n} \sum_{i=1}^{n} (y_i - x_i)^2, \quad
+        \mathrm{RMSE} = \sqrt{\mathrm{MSE}}
+
+    over the n = 7N components of the pose vectors (reference y, estimate x).
 
     Parameters
     ----------
@@ -257,7 +341,11 @@ def pose_summary(pair: PosePair, beta: float = 0.8) -> dict:
 
     References
     ----------
-    Eq. 12-17 of the paper.
+    Shotton, Glocker, Zach, Izadi, Criminisi and Fitzgibbon, "Scene coordinate regression
+    forests for camera relocalization in RGB-D images", CVPR 2013 (7-Scenes and its
+    thresholds).
+    Kendall, Grimes and Cipolla, "PoseNet: a convolutional network for real-time 6-DOF
+    camera relocalization", ICCV 2015. Eq. 12-17 of the paper.
     """
     position = position_errors(pair)
     orientation = orientation_errors_deg(pair)
