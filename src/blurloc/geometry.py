@@ -18,7 +18,13 @@ SEVEN_SCENES_SIZE = (640, 480)
 
 
 def intrinsics(width: int, height: int) -> np.ndarray:
-    """Camera matrix of the 7-Scenes camera scaled to another image size.
+    r"""Camera matrix of the 7-Scenes camera scaled to another image size.
+
+    .. math::
+
+        K = \begin{pmatrix} f s_x & 0 & (W_0/2 + \tfrac12) s_x - \tfrac12 \\
+        0 & f s_y & (H_0/2 + \tfrac12) s_y - \tfrac12 \\ 0 & 0 & 1 \end{pmatrix},
+        \qquad s_x = W / W_0,\; s_y = H / H_0
 
     Parameters
     ----------
@@ -29,6 +35,18 @@ def intrinsics(width: int, height: int) -> np.ndarray:
     -------
     numpy.ndarray
         (3, 3): focal lengths and principal point in pixels (centres at integers).
+
+    Raises
+    ------
+    ValueError
+        If the size is not positive.
+
+    References
+    ----------
+    Shotton, Glocker, Zach, Izadi, Criminisi and Fitzgibbon, "Scene coordinate regression
+    forests for camera relocalization in RGB-D images", CVPR 2013 (7-Scenes).
+    Hartley and Zisserman, *Multiple View Geometry in Computer Vision*, 2nd ed., Cambridge
+    University Press, 2004, Section 6.1 (the pinhole camera).
     """
     if width <= 0 or height <= 0:
         raise ValueError(f"image size must be positive, got {width}x{height}")
@@ -43,7 +61,13 @@ def intrinsics(width: int, height: int) -> np.ndarray:
 
 
 def look_at(eye: np.ndarray, target: np.ndarray, up: np.ndarray = (0.0, 0.0, 1.0)) -> np.ndarray:
-    """Camera-to-world rotation(s) of a camera at ``eye`` looking at ``target``.
+    r"""Camera-to-world rotation(s) of a camera at ``eye`` looking at ``target``.
+
+    .. math::
+
+        z = \frac{t - e}{\lVert t - e \rVert}, \quad
+        x = \frac{z \times u}{\lVert z \times u \rVert}, \quad
+        y = z \times x, \qquad R = [x\; y\; z]
 
     Parameters
     ----------
@@ -56,6 +80,16 @@ def look_at(eye: np.ndarray, target: np.ndarray, up: np.ndarray = (0.0, 0.0, 1.0
     -------
     numpy.ndarray
         (..., 3, 3), columns: camera x (right), y (down), z (forward) in world coordinates.
+
+    Raises
+    ------
+    ValueError
+        If the viewing direction is parallel to ``up``.
+
+    References
+    ----------
+    Hartley and Zisserman, *Multiple View Geometry in Computer Vision*, 2nd ed., Cambridge
+    University Press, 2004, Section 6.1 (the pinhole camera).
     """
     forward = np.asarray(target, float) - np.asarray(eye, float)
     forward = forward / np.linalg.norm(forward, axis=-1, keepdims=True)
@@ -69,7 +103,11 @@ def look_at(eye: np.ndarray, target: np.ndarray, up: np.ndarray = (0.0, 0.0, 1.0
 
 
 def make_pose(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
-    """Camera-to-world pose matrices.
+    r"""Camera-to-world pose matrices.
+
+    .. math::
+
+        T = \begin{pmatrix} R & c \\ 0^\top & 1 \end{pmatrix}
 
     Parameters
     ----------
@@ -82,6 +120,11 @@ def make_pose(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
     -------
     numpy.ndarray
         (..., 4, 4).
+
+    References
+    ----------
+    Hartley and Zisserman, *Multiple View Geometry in Computer Vision*, 2nd ed., Cambridge
+    University Press, 2004, Section 6.1 (the pinhole camera).
     """
     rotation = np.asarray(rotation, float)
     position = np.asarray(position, float)
@@ -93,7 +136,11 @@ def make_pose(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
 
 
 def orthonormality_error(rotation: np.ndarray) -> float:
-    """How far a matrix is from orthonormal.
+    r"""How far a matrix is from orthonormal.
+
+    .. math::
+
+        \epsilon(R) = \max_{i,j} \bigl| (R^\top R - I)_{ij} \bigr|
 
     Parameters
     ----------
@@ -104,13 +151,24 @@ def orthonormality_error(rotation: np.ndarray) -> float:
     -------
     float
         Largest absolute entry of ``R^T R - I``: 0 for an exact rotation (or mirror).
+
+    References
+    ----------
+    Huynh, "Metrics for 3D rotations: comparison and analysis", J. Math. Imaging Vis. 35(2),
+    2009.
     """
     rotation = np.asarray(rotation, float)
     return float(np.abs(rotation.T @ rotation - np.eye(3)).max())
 
 
 def project(points_world: np.ndarray, pose: np.ndarray, camera: np.ndarray) -> np.ndarray:
-    """Pixel coordinates and depths of world points seen from a camera.
+    r"""Pixel coordinates and depths of world points seen from a camera.
+
+    .. math::
+
+        X_c = R^\top (X_w - c), \qquad
+        \begin{pmatrix} u \\ v \end{pmatrix} =
+        \begin{pmatrix} f_x X_c / Z_c + c_x \\ f_y Y_c / Z_c + c_y \end{pmatrix}
 
     Parameters
     ----------
@@ -125,6 +183,11 @@ def project(points_world: np.ndarray, pose: np.ndarray, camera: np.ndarray) -> n
     -------
     numpy.ndarray
         (N, 3): u, v (pixels, centres at integers) and z (metres, along the optical axis).
+
+    References
+    ----------
+    Hartley and Zisserman, *Multiple View Geometry in Computer Vision*, 2nd ed., Cambridge
+    University Press, 2004, Section 6.1 (the pinhole camera).
     """
     points_world = np.asarray(points_world, float).reshape(-1, 3)
     rotation, position = pose[:3, :3], pose[:3, 3]
@@ -137,7 +200,11 @@ def project(points_world: np.ndarray, pose: np.ndarray, camera: np.ndarray) -> n
 def backproject(
     uv: np.ndarray, depth: np.ndarray, pose: np.ndarray, camera: np.ndarray
 ) -> np.ndarray:
-    """World points of pixels at known depths.
+    r"""World points of pixels at known depths.
+
+    .. math::
+
+        X_w = R\, z \begin{pmatrix} (u - c_x) / f_x \\ (v - c_y) / f_y \\ 1 \end{pmatrix} + c
 
     Parameters
     ----------
@@ -154,6 +221,11 @@ def backproject(
     -------
     numpy.ndarray
         (N, 3), metres, world frame.
+
+    References
+    ----------
+    Hartley and Zisserman, *Multiple View Geometry in Computer Vision*, 2nd ed., Cambridge
+    University Press, 2004, Section 6.1 (the pinhole camera).
     """
     uv = np.asarray(uv, float).reshape(-1, 2)
     x = (uv[:, 0] - camera[0, 2]) / camera[0, 0]
@@ -163,7 +235,11 @@ def backproject(
 
 
 def rotation_to_quaternion(rotation: np.ndarray) -> np.ndarray:
-    """Quaternions of rotation matrices, in the convention of :mod:`blurloc.poses`.
+    r"""Quaternions of rotation matrices, in the convention of :mod:`blurloc.poses`.
+
+    .. math::
+
+        q = (w, x, y, z), \quad w = \tfrac12 \sqrt{1 + \operatorname{trace} R} \ge 0
 
     Parameters
     ----------
@@ -174,12 +250,25 @@ def rotation_to_quaternion(rotation: np.ndarray) -> np.ndarray:
     -------
     numpy.ndarray
         Shape (N, 4) or (4,): unit ``(w, x, y, z)`` with ``w >= 0``.
+
+    References
+    ----------
+    Shoemake, "Animating rotation with quaternion curves", SIGGRAPH 1985.
+    SciPy's ``Rotation.from_matrix``.
     """
     return to_quaternions(Rotation.from_matrix(np.asarray(rotation, float)))
 
 
 def quaternion_to_rotation(quaternion: np.ndarray) -> np.ndarray:
-    """Rotation matrices of quaternions ``(w, x, y, z)``; they are normalised first.
+    r"""Rotation matrices of quaternions ``(w, x, y, z)``; they are normalised first.
+
+    .. math::
+
+        R(q) = \begin{pmatrix}
+        1 - 2(y^2 + z^2) & 2(xy - wz) & 2(xz + wy) \\
+        2(xy + wz) & 1 - 2(x^2 + z^2) & 2(yz - wx) \\
+        2(xz - wy) & 2(yz + wx) & 1 - 2(x^2 + y^2)
+        \end{pmatrix}, \qquad q \leftarrow q / \lVert q \rVert
 
     Parameters
     ----------
@@ -190,12 +279,21 @@ def quaternion_to_rotation(quaternion: np.ndarray) -> np.ndarray:
     -------
     numpy.ndarray
         Shape (N, 3, 3) or (3, 3).
+
+    References
+    ----------
+    Shoemake, "Animating rotation with quaternion curves", SIGGRAPH 1985.
+    SciPy's ``Rotation.from_quat``.
     """
     return from_quaternions(quaternion).as_matrix()
 
 
 def rotation_defect(rotation: np.ndarray, tolerance: float = 1e-2) -> str | None:
-    """Why a 3x3 matrix is not a rotation, in words, or None when it is one.
+    r"""Why a 3x3 matrix is not a rotation, in words, or None when it is one.
+
+    .. math::
+
+        R \in SO(3) \iff R^\top R = I \text{ and } \det R = +1
 
     Parameters
     ----------
@@ -209,6 +307,11 @@ def rotation_defect(rotation: np.ndarray, tolerance: float = 1e-2) -> str | None
     str or None
         ``"not a rotation: determinant -1"`` for a mirror, ``"not orthonormal: ..."`` when
         ``R^T R`` is not the identity, None for a proper rotation.
+
+    References
+    ----------
+    Huynh, "Metrics for 3D rotations: comparison and analysis", J. Math. Imaging Vis. 35(2),
+    2009.
     """
     error = orthonormality_error(rotation)
     if error > tolerance:
@@ -220,7 +323,12 @@ def rotation_defect(rotation: np.ndarray, tolerance: float = 1e-2) -> str | None
 
 
 def frame_to_frame_motion(poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Camera step and rotation between consecutive poses.
+    r"""Camera step and rotation between consecutive poses.
+
+    .. math::
+
+        s_k = \lVert c_{k+1} - c_k \rVert_2, \qquad
+        2 \cos \alpha_k = \operatorname{trace}(R_k^\top R_{k+1}) - 1
 
     Parameters
     ----------
@@ -233,6 +341,10 @@ def frame_to_frame_motion(poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         Shape (N - 1,), metres.
     angles : numpy.ndarray
         Shape (N - 1,), degrees (the α of eq. 13 between neighbours).
+
+    References
+    ----------
+    The paper's eq. 12-13, applied to neighbouring frames.
     """
     poses = np.asarray(poses, float)
     steps = np.linalg.norm(np.diff(poses[:, :3, 3], axis=0), axis=1)
