@@ -17,7 +17,12 @@ from scipy.spatial.transform import Rotation
 
 
 def to_quaternions(rotations: Rotation) -> np.ndarray:
-    """Unit quaternions ``(w, x, y, z)`` with ``w >= 0`` of ``rotations``.
+    r"""Unit quaternions ``(w, x, y, z)`` with ``w >= 0`` of ``rotations``.
+
+    .. math::
+
+        q = (w, x, y, z) = \bigl(\cos\tfrac{\alpha}{2},\; n \sin\tfrac{\alpha}{2}\bigr),
+        \qquad q \leftarrow -q \text{ if } w < 0
 
     Parameters
     ----------
@@ -28,12 +33,21 @@ def to_quaternions(rotations: Rotation) -> np.ndarray:
     -------
     numpy.ndarray
         Shape (N, 4) (or (4,) for a single rotation), float64.
+
+    References
+    ----------
+    Shoemake, "Animating rotation with quaternion curves", SIGGRAPH 1985.
+    SciPy's ``Rotation.as_quat(canonical=True, scalar_first=True)``.
     """
     return rotations.as_quat(canonical=True, scalar_first=True)
 
 
 def from_quaternions(quaternions: np.ndarray) -> Rotation:
-    """Rotations of quaternions ``(w, x, y, z)``; they are normalised first.
+    r"""Rotations of quaternions ``(w, x, y, z)``; they are normalised first.
+
+    .. math::
+
+        q \leftarrow \frac{q}{\lVert q \rVert}
 
     Parameters
     ----------
@@ -48,6 +62,11 @@ def from_quaternions(quaternions: np.ndarray) -> Rotation:
     ------
     ValueError
         If a quaternion is zero or not finite.
+
+    References
+    ----------
+    Shoemake, "Animating rotation with quaternion curves", SIGGRAPH 1985.
+    SciPy's ``Rotation.from_quat(scalar_first=True)``.
     """
     q = np.asarray(quaternions, float)
     if q.shape[-1] != 4 or not np.all(np.isfinite(q)) or np.any(np.linalg.norm(q, axis=-1) < 1e-12):
@@ -56,11 +75,17 @@ def from_quaternions(quaternions: np.ndarray) -> Rotation:
 
 
 def rotation_angles_deg(reference: Rotation, estimate: Rotation) -> np.ndarray:
-    """Angle of the rotation taking each reference orientation to its estimate.
+    r"""Angle of the rotation taking each reference orientation to its estimate.
 
-    The α of eq. 13, ``2 cos α + 1 = trace(R_ref^T R_est)``, read from the rotation vector of
-    ``R_ref^T R_est`` (which stays precise for small angles, where arccos of the trace does not);
-    equal to ``2 arccos |<q_ref, q_est>|``, the PoseNet/AtLoc orientation error.
+    The α of eq. 13, read from the rotation vector of ``R_ref^T R_est`` (which stays precise
+    for small angles, where arccos of the trace does not):
+
+    .. math::
+
+        1 + 2 \cos \alpha = \operatorname{trace}(R_{\text{ref}}^\top R_{\text{est}}),
+        \qquad \alpha = 2 \arccos |\langle q_{\text{ref}}, q_{\text{est}} \rangle|
+
+    the second form being the PoseNet/AtLoc orientation error.
 
     Parameters
     ----------
@@ -74,7 +99,9 @@ def rotation_angles_deg(reference: Rotation, estimate: Rotation) -> np.ndarray:
 
     References
     ----------
-    Eq. 13 of the paper.
+    Kendall, Grimes and Cipolla, "PoseNet: a convolutional network for real-time 6-DOF camera
+    relocalization", ICCV 2015. Huynh, "Metrics for 3D rotations: comparison and analysis",
+    J. Math. Imaging Vis. 35(2), 2009. Eq. 13 of the paper.
     """
     return np.degrees((reference.inv() * estimate).magnitude())
 
