@@ -42,7 +42,13 @@ class PoseConfig:
             raise ValueError(f"head must be one of {HEADS}, got {self.head!r}")
 
     def as_dict(self) -> dict:
-        """Plain dict (stored in checkpoints)."""
+        """The settings as a plain dict (stored in checkpoints).
+
+        Returns
+        -------
+        dict
+            ``encoder``, ``head``, ``hidden`` and ``dropout``.
+        """
         return asdict(self)
 
 
@@ -62,6 +68,27 @@ class BasicBlock(nn.Module):
             )
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
+        r"""The block's output for a feature map.
+
+        .. math::
+
+            y = \mathrm{ReLU}\bigl(\mathrm{BN}(W_2 * \mathrm{ReLU}(\mathrm{BN}(W_1 * x)))
+            + \mathrm{shortcut}(x)\bigr)
+
+        Parameters
+        ----------
+        x : torch.Tensor
+            (N, C_in, H, W).
+
+        Returns
+        -------
+        torch.Tensor
+            (N, C_out, H / stride, W / stride).
+
+        References
+        ----------
+        He, Zhang, Ren and Sun, "Deep residual learning for image recognition", CVPR 2016.
+        """
         shortcut = x if self.downsample is None else self.downsample(x)
         out = F.relu(self.bn1(self.conv1(x)))
         return F.relu(self.bn2(self.conv2(out)) + shortcut)
@@ -86,15 +113,61 @@ class ResNetEncoder(nn.Module):
         self.features = inputs
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
+        r"""One feature vector per image: the ResNet trunk, then global average pooling.
+
+        .. math::
+
+            \phi(I) = \frac{1}{hw} \sum_{i, j} \mathrm{layer4}(\cdots \mathrm{layer1}(
+            \mathrm{maxpool}(\mathrm{ReLU}(\mathrm{BN}(W * I)))))_{:, i, j}
+
+        Parameters
+        ----------
+        x : torch.Tensor
+            (N, 3, H, W) images in [-1, 1].
+
+        Returns
+        -------
+        torch.Tensor
+            (N, features).
+
+        References
+        ----------
+        He, Zhang, Ren and Sun, "Deep residual learning for image recognition", CVPR 2016.
+        """
         x = self.maxpool(F.relu(self.bn1(self.conv1(x))))
         x = self.layer4(self.layer3(self.layer2(self.layer1(x))))
         return x.mean(dim=(2, 3))
 
 
 def load_encoder_weights(encoder: ResNetEncoder, path: str | os.PathLike) -> list[str]:
-    """Load ImageNet weights from a local state-dict file (e.g. torchvision's resnet34, saved
-    with ``torch.save(model.state_dict(), path)``); the classifier (``fc.*``) is skipped.
-    Returns the encoder keys the file did not provide; ValueError on a shape mismatch."""
+    """Load ImageNet weights into the encoder from a local state-dict file.
+
+    The file is e.g. torchvision's resnet18/34 saved with ``torch.save(model.state_dict(),
+    path)``; it is read with ``weights_only=True`` and its classifier (``fc.*``) is skipped, as
+    the paper's ResNet34 is pre-trained on ImageNet (Section III.D) and the pose layers are not.
+
+    Parameters
+    ----------
+    encoder : ResNetEncoder
+        The encoder to fill (its module names are torchvision's).
+    path : str or os.PathLike
+        The state-dict file.
+
+    Returns
+    -------
+    list of str
+        The encoder keys the file did not provide.
+
+    Raises
+    ------
+    ValueError
+        If a weight's shape does not fit the encoder (naming the file).
+
+    References
+    ----------
+    He, Zhang, Ren and Sun, "Deep residual learning for image recognition", CVPR 2016.
+    Deng et al., "ImageNet: a large-scale hierarchical image database", CVPR 2009.
+    """
     state = torch.load(path, map_location="cpu", weights_only=True)
     state = {k: v for k, v in state.items() if not k.startswith("fc.")}
     own = encoder.state_dict()
@@ -126,7 +199,45 @@ class PoseRegressor(nn.Module):
         self.rotation = nn.Linear(out, 4)
 
     def forward(self, frames: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-        """frames (N, T, 3, H, W) in [-1, 1] → position (N, T, 3), quaternion (N, T, 4)."""
+        r"""Camera poses of every frame of a batch of frame windows.
+
+        .. math::
+
+            \phi_t = \mathrm{CNN}(I_t), \quad h_t = \mathrm{RNN}(\phi_t, h_{t-1}), \quad
+            \hat{C}_t = W_c h_t + b_c, \quad
+            \hat{q}_t = \pm \frac{W_q h_t + b_q}{\lVert W_q h_t + b_q \rVert}
+
+        with the sign chosen so that :math:`w \ge 0` (dropout on :math:`h_t` while training; without
+        a recurrent head :math:`h_t = \phi_t`, PoseNet's single-frame regression).
+
+        Parameters
+        ----------
+        frames : torch.Tensor
+            (N, T, 3, H, W) in [-1, 1].
+
+        Returns
+        -------
+        position : torch.Tensor
+            (N, T, 3), metres, camera-to-world.
+        quaternion : torch.Tensor
+            (N, T, 4), unit, (w, x, y, z) with w >= 0.
+
+        Raises
+        ------
+        ValueError
+            If ``frames`` is not (N, T, 3, H, W).
+
+        References
+        ----------
+        Kendall, Grimes and Cipolla, "PoseNet: a convolutional network for real-time 6-DOF camera
+        relocalization", ICCV 2015.
+        Walch, Hazirbas, Leal-Taixé, Sattler, Hilsenbeck and Cremers, "Image-based localization
+        using LSTMs for structured feature correlation", ICCV 2017.
+        Hochreiter and Schmidhuber, "Long short-term memory", Neural Computation 9(8), 1997.
+        Cho et al., "Learning phrase representations using RNN encoder-decoder for statistical
+        machine translation", EMNLP 2014 (GRU).
+        The paper's Section III.B.
+        """
         if frames.ndim != 5 or frames.shape[2] != 3:
             raise ValueError(f"frames must be (N, T, 3, H, W), got {tuple(frames.shape)}")
         n, t = frames.shape[:2]
@@ -146,8 +257,36 @@ def pose_loss(
     true_quaternion: torch.Tensor,
     beta: float = 0.8,
 ) -> torch.Tensor:
-    """Eq. 14: ||c - c^||_2 + beta ||q - q^ / ||q^|| ||_2, averaged over frames. The paper's
-    beta is 0.8. Both quaternions are in the w >= 0 hemisphere, so q and -q do not differ."""
+    r"""The pose loss of eq. 14, averaged over frames.
+
+    .. math::
+
+        \mathrm{loss}(I) = \lVert \hat{C} - C_{gt} \rVert_2
+        + \beta \left\lVert \frac{\hat{q}}{\lVert \hat{q} \rVert} - q_{gt} \right\rVert_2
+
+    The paper prints eq. 14 without :math:`\beta` but names it, with the value 0.8; it normalises
+    the ground-truth quaternion, which is unit already here, and this normalises the estimate.
+    Both quaternions are in the w >= 0 hemisphere, so q and -q do not differ.
+
+    Parameters
+    ----------
+    position, quaternion : torch.Tensor
+        Estimated positions (..., 3), metres, and quaternions (..., 4).
+    true_position, true_quaternion : torch.Tensor
+        Reference positions (..., 3) and unit quaternions (..., 4), w >= 0.
+    beta : float
+        :math:`\beta`, the weight of the orientation term.
+
+    Returns
+    -------
+    torch.Tensor
+        The scalar loss.
+
+    References
+    ----------
+    Kendall, Grimes and Cipolla, "PoseNet: a convolutional network for real-time 6-DOF camera
+    relocalization", ICCV 2015. Eq. 14 of the paper.
+    """
     unit = F.normalize(quaternion, dim=-1)
     return ((position - true_position).norm(dim=-1)
             + beta * (unit - true_quaternion).norm(dim=-1)).mean()  # fmt: skip
@@ -163,7 +302,30 @@ class LearnedWeighting(nn.Module):
         self.s_q = nn.Parameter(torch.tensor(s_q))
 
     def forward(self, position, quaternion, true_position, true_quaternion) -> torch.Tensor:
-        """The weighted loss, averaged over frames."""
+        r"""The loss with learnt weights of its position and orientation terms, frame mean.
+
+        .. math::
+
+            \mathcal{L} = e^{-s_x} \lVert \hat{t} - t \rVert_2 + s_x
+            + e^{-s_q} \left\lVert \frac{\hat{q}}{\lVert \hat{q} \rVert} - q \right\rVert_2 + s_q
+
+        Parameters
+        ----------
+        position, quaternion : torch.Tensor
+            Estimated positions (..., 3) and quaternions (..., 4).
+        true_position, true_quaternion : torch.Tensor
+            Reference positions (..., 3) and unit quaternions (..., 4), w >= 0.
+
+        Returns
+        -------
+        torch.Tensor
+            The scalar loss (it includes :math:`s_x + s_q`, so it can be negative).
+
+        References
+        ----------
+        Kendall and Cipolla, "Geometric loss functions for camera pose regression with deep
+        learning", CVPR 2017. The paper's eq. 14 with its β learnt instead of fixed.
+        """
         position_error = (position - true_position).norm(dim=-1).mean()
         rotation_error = (F.normalize(quaternion, dim=-1) - true_quaternion).norm(dim=-1).mean()
         return (torch.exp(-self.s_x) * position_error + self.s_x
