@@ -55,7 +55,13 @@ class VideoDeblurConfig:
             raise ValueError(f"feature_stride must be 2 or 4, got {self.feature_stride}")
 
     def as_dict(self) -> dict:
-        """Plain dict (stored in checkpoints)."""
+        """The settings as a plain dict (stored in checkpoints).
+
+        Returns
+        -------
+        dict
+            Every field of the configuration.
+        """
         return asdict(self)
 
     @classmethod
@@ -81,6 +87,10 @@ class VideoDeblurConfig:
             On a setting this network does not have.
         ValueError
             On a setting's value the network refuses (e.g. ``feature_stride``).
+
+        References
+        ----------
+        The paper's eq. 8-11 (the parts the switches turn off).
         """
         return cls(**{**SWITCHES_OFF, **settings})
 
@@ -99,12 +109,37 @@ class ResidualBlock(nn.Module):
         self.conv2 = nn.Conv2d(channels, channels, 3, padding=1)
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
+        r"""The block's output: the input plus a conv-ReLU-conv residual.
+
+        .. math::
+
+            y = x + W_2 * \mathrm{ReLU}(W_1 * x)
+
+        Parameters
+        ----------
+        x : torch.Tensor
+            (N, C, H, W).
+
+        Returns
+        -------
+        torch.Tensor
+            (N, C, H, W).
+
+        References
+        ----------
+        He, Zhang, Ren and Sun, "Deep residual learning for image recognition", CVPR 2016.
+        """
         return x + self.conv2(F.relu(self.conv1(x)))
 
 
 def frame_translation(previous: torch.Tensor, current: torch.Tensor) -> torch.Tensor:
-    """Global translation (dx, dy) in px of each frame against the previous one, by phase
+    r"""Global translation (dx, dy) in px of each frame against the previous one, by phase
     correlation: ``current(x) ≈ previous(x - shift)``.
+
+    .. math::
+
+        R = \frac{F\{c\}\, \overline{F\{p\}}}{|F\{c\}\, \overline{F\{p\}}|}, \qquad
+        (\Delta x, \Delta y) = \arg\max_{x, y} F^{-1}\{R\}(x, y)
 
     The channel means of both frames, minus their means and Hann-windowed, are correlated in
     the Fourier domain with the magnitude normalised away (only the phase, which carries the
@@ -153,7 +188,11 @@ def frame_translation(previous: torch.Tensor, current: torch.Tensor) -> torch.Te
 
 
 def shift_features(features: torch.Tensor, shift_px: torch.Tensor) -> torch.Tensor:
-    """Move feature maps by a translation: ``out(x) = features(x - shift)``.
+    r"""Move feature maps by a translation: ``out(x) = features(x - shift)``.
+
+    .. math::
+
+        \mathrm{out}(x, y) = \mathrm{features}(x - \Delta x,\; y - \Delta y)
 
     Parameters
     ----------
@@ -166,6 +205,11 @@ def shift_features(features: torch.Tensor, shift_px: torch.Tensor) -> torch.Tens
     -------
     torch.Tensor
         (N, C, h, w), bilinearly interpolated; pixels moved in from outside repeat the border.
+
+    References
+    ----------
+    Jaderberg, Simonyan, Zisserman and Kavukcuoglu, "Spatial transformer networks", NeurIPS
+    2015 (differentiable bilinear resampling).
     """
     n, _, height, width = features.shape
     theta = features.new_zeros(n, 2, 3)
@@ -225,11 +269,53 @@ class VideoDeblurNet(nn.Module):
         state: tuple | None = None,
         keep_attention: bool = False,
     ) -> tuple[torch.Tensor, tuple]:
-        """Deblur a clip (N, T, 3, H, W) in [-1, 1] frame by frame in time order; returns the
-        restored clip and the recurrent state (h, h~, f~ and the last frame) to pass with the
-        next clip of the same video. Any H, W: frames are padded by replication to a multiple of
-        the stride and cropped back. With ``keep_attention`` the blending weights w_t of eq. 10
-        are kept in ``last_attention``."""
+        r"""Deblur a clip frame by frame in time order (eq. 8-11).
+
+        .. math::
+
+            f_t, h_t = \mathrm{Recurrence}(B_t, h_{t-1}), \qquad
+            \tilde{h}_t = \widetilde{\mathrm{Recurrence}}(h_t, \tilde{h}_{t-1}),
+
+            \tilde{f}_t = \tilde{w}_{t-1} \tilde{f}_{t-1} + w_t f_t, \quad
+            (w_t, \tilde{w}_{t-1}) = \mathrm{softmax}(\mathrm{Attend}(f_t, \tilde{f}_{t-1})),
+
+            L_t = B_t + \mathrm{Reconstructor}(f_t, h_t, \tilde{f}_t, \tilde{h}_t)
+
+        (with ``bounded_state``, :math:`h_t` and :math:`\tilde{h}_t` pass through tanh; switched-off
+        parts drop out of the sums). Any H, W: frames are padded by replication to a multiple of the
+        feature stride and cropped back.
+
+        Parameters
+        ----------
+        frames : torch.Tensor
+            (N, T, 3, H, W) blurred frames :math:`B_t` in [-1, 1].
+        state : tuple, optional
+            The state returned with the previous clip of the same videos (h, h~, f~ and the last
+            frame); None starts a video.
+        keep_attention : bool
+            Keep the blending weights :math:`w_t` of eq. 10 in ``last_attention``.
+
+        Returns
+        -------
+        restored : torch.Tensor
+            (N, T, 3, H, W) restored frames :math:`L_t`.
+        state : tuple
+            The recurrent state to pass with the next clip.
+
+        Raises
+        ------
+        ValueError
+            If ``frames`` is not (N, T, 3, H, W).
+
+        References
+        ----------
+        Park, Nah and Lee, "Recurrence-in-recurrence networks for video deblurring", BMVC 2022.
+        Nah, Son and Lee, "Recurrent neural networks with intra-frame iterations for video
+        deblurring", CVPR 2019.
+        Shi et al., "Real-time single image and video super-resolution using an efficient
+        sub-pixel convolutional neural network", CVPR 2016 (pixel shuffle).
+        The paper's eq. 8-11.
+        """
         if frames.ndim != 5 or frames.shape[2] != 3:
             raise ValueError(f"frames must be (N, T, 3, H, W), got {tuple(frames.shape)}")
         n, t, _, height, width = frames.shape
@@ -279,13 +365,33 @@ class VideoDeblurNet(nn.Module):
 
 
 def parameter_count(model: nn.Module) -> int:
-    """Number of trainable parameters."""
+    r"""Number of trainable parameters of a network.
+
+    .. math::
+
+        P = \sum_{\theta \in \Theta,\ \theta \text{ trainable}} |\theta|
+
+    Parameters
+    ----------
+    model : torch.nn.Module
+        Any network.
+
+    Returns
+    -------
+    int
+        The count.
+    """
     return sum(p.numel() for p in model.parameters() if p.requires_grad)
 
 
 def matched_blocks(config: VideoDeblurConfig, parameters: int) -> VideoDeblurConfig:
-    """``config`` with the number of residual blocks in eq. 8's recurrence whose parameter
+    r"""``config`` with the number of residual blocks in eq. 8's recurrence whose parameter
     count lies nearest to ``parameters``.
+
+    .. math::
+
+        \hat{b} = \arg\min_{1 \le b \le b_0 + 8} \bigl| P(\text{config with } b \text{ blocks})
+        - P^\ast \bigr|
 
     An ablation that removes a part of the network (the auxiliary state of eq. 9, the blending
     of eq. 10, the recurrence) also removes its parameters; given the blocks back, the ablated
@@ -308,6 +414,10 @@ def matched_blocks(config: VideoDeblurConfig, parameters: int) -> VideoDeblurCon
     ------
     ValueError
         If ``parameters`` is not positive.
+
+    References
+    ----------
+    The paper's eq. 8-10 (the parts an ablation removes).
     """
     if parameters < 1:
         raise ValueError(f"parameters must be positive, got {parameters}")
