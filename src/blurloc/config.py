@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import os
 import random
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -75,15 +76,19 @@ def seed_everything(seed: int) -> None:
     torch.manual_seed(seed)
 
 
-def write_rows(rows: list[dict], path: str | os.PathLike) -> Path:
+def write_rows(
+    rows: list[dict], path: str | os.PathLike, columns: Sequence[str] | None = None
+) -> Path:
     """Write ``rows`` as CSV, atomically (:func:`blurloc.files.atomic_path`).
 
     Parameters
     ----------
     rows : list of dict
-        Rows with the same keys, in order; the keys of the first row are the header.
+        Rows with the same keys, in order.
     path : str or os.PathLike
         CSV file to write; a reader never sees half of it.
+    columns : sequence of str, optional
+        The header (default: the keys of the first row); needed when ``rows`` is empty.
 
     Returns
     -------
@@ -92,7 +97,7 @@ def write_rows(rows: list[dict], path: str | os.PathLike) -> Path:
     """
     path = Path(path)
     with atomic_path(path) as temporary, open(temporary, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer = csv.DictWriter(handle, fieldnames=list(columns or rows[0]))
         writer.writeheader()
         writer.writerows(rows)
     return path
