@@ -1,4 +1,5 @@
-"""Paths anchored on the package file, the one seeding helper, and atomic result files."""
+"""The project's folders (found from the working folder, not from where the package is
+installed), the one seeding helper, and atomic result files."""
 
 from __future__ import annotations
 
@@ -12,15 +13,68 @@ import numpy as np
 
 from .files import atomic_path
 
-PACKAGE_DIR = Path(__file__).resolve().parent
-REPO_ROOT = PACKAGE_DIR.parent.parent
-NOTEBOOKS_DIR = REPO_ROOT / "notebooks"
-DATA_DIR = REPO_ROOT / "data"
-RESULTS_DIR = REPO_ROOT / "results"
-FIGURES_DIR = REPO_ROOT / "figures"
-BUILD_DIR = REPO_ROOT / "build"
+#: The environment variable that names the project folder, overriding the search.
+PROJECT_VARIABLE = "BLURLOC_ROOT"
+
+#: The project's folders, by the module attribute that names each (resolved when read).
+PROJECT_FOLDERS = {
+    "NOTEBOOKS_DIR": "notebooks",
+    "DATA_DIR": "data",
+    "RESULTS_DIR": "results",
+    "FIGURES_DIR": "figures",
+    "BUILD_DIR": "build",
+}
 
 DEFAULT_SEED = 0
+
+
+def _is_project(folder: Path) -> bool:
+    return any((folder / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+
+
+def project_root(start: str | os.PathLike | None = None) -> Path:
+    """The project folder: the one holding ``notebooks/`` with the numbered notebooks.
+
+    Parameters
+    ----------
+    start : str or os.PathLike, optional
+        Where the search starts (default: the working folder); it goes up from there.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder named by the environment variable ``BLURLOC_ROOT`` when it is set, else the
+        nearest folder at or above ``start`` holding ``notebooks/NN_*.ipynb``.
+
+    Raises
+    ------
+    FileNotFoundError
+        Naming the folder searched from (or the variable's value) when no project is found.
+    """
+    named = os.environ.get(PROJECT_VARIABLE)
+    if named:
+        if not _is_project(Path(named)):
+            raise FileNotFoundError(
+                f"{PROJECT_VARIABLE}={named} holds no notebooks/NN_*.ipynb: "
+                "point it at the blurloc project folder"
+            )
+        return Path(named).resolve()
+    here = Path(start or Path.cwd()).resolve()
+    for folder in (here, *here.parents):
+        if _is_project(folder):
+            return folder
+    raise FileNotFoundError(
+        f"no blurloc project (a folder holding notebooks/NN_*.ipynb) at or above {here}: "
+        f"run from inside the project or set {PROJECT_VARIABLE}"
+    )
+
+
+def __getattr__(name: str) -> Path:
+    """``NOTEBOOKS_DIR``, ``DATA_DIR``, ``RESULTS_DIR``, ``FIGURES_DIR``, ``BUILD_DIR``: the
+    project's folders (:func:`project_root`), found when read."""
+    if name in PROJECT_FOLDERS:
+        return project_root() / PROJECT_FOLDERS[name]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def default_data_root(quick: bool = False) -> Path:
@@ -34,9 +88,9 @@ def default_data_root(quick: bool = False) -> Path:
     Returns
     -------
     pathlib.Path
-        ``data/standin`` (or ``data/standin-quick``) in the repository.
+        ``data/standin`` (or ``data/standin-quick``) in the project (:func:`project_root`).
     """
-    return DATA_DIR / ("standin-quick" if quick else "standin")
+    return project_root() / "data" / ("standin-quick" if quick else "standin")
 
 
 def resolve_dir(path: str | os.PathLike | None, default: Path) -> Path:
