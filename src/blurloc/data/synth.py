@@ -47,6 +47,7 @@ from ..geometry import (
 )
 from ..images import to_uint8
 from ..processes import process_alive, watch_parent
+from ..stored import complete
 from .render import Scene, render_poses, render_reference, surface_depth
 from .scenes import SCENE_NAMES, SEQUENCE_COUNTS, camera_region, make_scene
 
@@ -757,12 +758,12 @@ def synthesize(
 
 def _up_to_date(manifest_path: Path, manifest: dict) -> bool:
     """True when the stand-in at ``manifest_path`` was rendered as ``manifest`` describes. A
-    setting added to :class:`SynthConfig` after it was rendered counts as its default (every
-    new setting's default renders what the renderer rendered before it existed)."""
+    setting added to :class:`SynthConfig` after it was rendered counts as its default
+    (:func:`blurloc.stored.complete`)."""
     try:
         stored = json.loads(manifest_path.read_text())
         defaults = _manifest(SynthConfig(), 0, [])["config"]
-        stored["config"] = {**defaults, **stored["config"]}
+        stored["config"] = complete(stored["config"], defaults)
         return stored == manifest
     except (OSError, ValueError, KeyError, TypeError):
         return False
