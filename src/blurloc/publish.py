@@ -142,9 +142,7 @@ def publish_notebooks(
     return written
 
 
-def stale_notebooks(
-    names: list[str], published_dir: str | os.PathLike | None = None
-) -> list[str]:
+def stale_notebooks(names: list[str], published_dir: str | os.PathLike | None = None) -> list[str]:
     """Notebooks whose published copy is missing or holds other code than the source.
 
     Parameters
