@@ -18,7 +18,6 @@ import numpy as np
 import psutil
 import pytest
 
-import blurloc.runner
 from blurloc.blur import blur_image, motion_kernel
 from blurloc.cli import main
 from blurloc.data import DataError, check_data, load_split, read_split
@@ -388,8 +387,7 @@ def test_a_failing_notebook_is_named_with_its_cell(
     notebook.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
                                        "language": "python"}  # fmt: skip
     nbformat.write(notebook, notebooks / "99_fails.ipynb")
-    monkeypatch.setattr(blurloc.runner, "NOTEBOOKS_DIR", notebooks)
-    monkeypatch.setattr(blurloc.runner, "BUILD_DIR", tmp_path / "build")
+    monkeypatch.setenv("BLURLOC_ROOT", str(tmp_path))
     status, err = run(["run-notebooks", "--quick", "99_fails"], capsys)
     assert status == 1
     assert "99_fails.ipynb" in err and "KeyError: 'no such scene'" in err

@@ -46,3 +46,11 @@ def test_verdicts_follow_the_interval() -> None:
 def test_bad_differences_are_refused(bad: list) -> None:
     with pytest.raises(ValueError, match="paired differences"):
         paired_interval(np.array(bad))
+
+
+def test_bootstrap_is_the_percentile_interval_of_resampled_means() -> None:
+    values = np.random.default_rng(4).normal(0.2, 1.0, 12)
+    picks = np.random.default_rng(5).integers(0, values.size, size=(4000, values.size))
+    means = values[picks].mean(axis=1)
+    interval = paired_interval(values, resamples=4000, seed=5)
+    assert [interval.low, interval.high] == pytest.approx(np.quantile(means, [0.025, 0.975]))

@@ -335,3 +335,10 @@ def test_figure_style_keeps_the_interactive_mode_a_backend_sets_inside() -> None
         assert matplotlib.is_interactive()
     finally:
         matplotlib.interactive(before)
+
+
+def test_a_saved_table_shows_as_its_markdown(tmp_path: Path) -> None:
+    saved = save_table([], tmp_path, "empty", columns=["scene", "psnr_db"], caption="None yet.")
+    assert saved._repr_markdown_() == "None yet.\n\n| scene | psnr_db |\n|---|---|\n"
+    assert saved.csv.read_text().splitlines() == ["scene,psnr_db"]
+    assert not [p.name for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporaries

@@ -288,17 +288,3 @@ def test_parallel_map_workers_end_with_their_parent(tmp_path: Path) -> None:
                 process.kill()
         if parent.poll() is None:
             parent.kill()
-
-
-def test_a_switch_added_off_since_a_run_is_not_a_change() -> None:
-    """Runs made before a model switch existed (e.g. ``bounded_state``) resume when it is off,
-    and are refused when it is on; other settings are compared as they are."""
-    from blurloc.train.loop import _changed
-
-    stored = {"train_config": {"lr": 0.002, "model": {"channels": 32}}}
-    off = {"train_config": {"lr": 0.002, "model": {"channels": 32, "bounded_state": False}}}
-    assert _changed(stored, off) == []
-    on = {"train_config": {"lr": 0.002, "model": {"channels": 32, "bounded_state": True}}}
-    assert _changed(stored, on) == ["train_config.model.bounded_state: None -> True"]
-    zero = {"train_config": {"lr": 0.002, "model": {"channels": 32, "blocks": 0}}}
-    assert _changed(stored, zero) == ["train_config.model.blocks: None -> 0"]

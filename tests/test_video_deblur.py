@@ -36,13 +36,13 @@ from blurloc.inference import (
 )
 from blurloc.metrics import mean_frame_psnr
 from blurloc.models.video_deblur import (
-    SWITCHES_OFF,
     VideoDeblurConfig,
     VideoDeblurNet,
     frame_translation,
     parameter_count,
     shift_features,
 )
+from blurloc.stored import VIDEO_SWITCHES_ADDED
 from blurloc.train.config import VideoTrainConfig
 from blurloc.train.loop import validation_cut
 from blurloc.train.video import load_video_splits, train_video_deblur
@@ -131,7 +131,7 @@ def test_bounded_state_stays_bounded_where_an_expansive_recurrence_blows_up() ->
 def test_a_checkpoint_made_before_a_switch_existed_loads_with_it_off(tmp_path: Path) -> None:
     settings = VideoDeblurConfig(channels=8, hidden=4, blocks=1, bounded_state=False).as_dict()
     network = VideoDeblurNet(VideoDeblurConfig(**settings))
-    legacy = {key: value for key, value in settings.items() if key not in SWITCHES_OFF}
+    legacy = {key: value for key, value in settings.items() if key not in VIDEO_SWITCHES_ADDED}
     torch.save({"format": "blurloc-video-deblur-1", "model_config": legacy,
                 "model": network.state_dict()}, tmp_path / "old.pt")  # fmt: skip
     loaded = load_video_deblur(tmp_path / "old.pt")

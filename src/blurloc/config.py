@@ -1,25 +1,80 @@
-"""Paths anchored on the package file, the one seeding helper, and atomic result files."""
+"""The project's folders (found from the working folder, not from where the package is
+installed), the one seeding helper, and atomic result files."""
 
 from __future__ import annotations
 
 import csv
 import os
 import random
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
 from .files import atomic_path
 
-PACKAGE_DIR = Path(__file__).resolve().parent
-REPO_ROOT = PACKAGE_DIR.parent.parent
-NOTEBOOKS_DIR = REPO_ROOT / "notebooks"
-DATA_DIR = REPO_ROOT / "data"
-RESULTS_DIR = REPO_ROOT / "results"
-FIGURES_DIR = REPO_ROOT / "figures"
-BUILD_DIR = REPO_ROOT / "build"
+#: The environment variable that names the project folder, overriding the search.
+PROJECT_VARIABLE = "BLURLOC_ROOT"
+
+#: The project's folders, by the module attribute that names each (resolved when read).
+PROJECT_FOLDERS = {
+    "NOTEBOOKS_DIR": "notebooks",
+    "DATA_DIR": "data",
+    "RESULTS_DIR": "results",
+    "FIGURES_DIR": "figures",
+    "BUILD_DIR": "build",
+}
 
 DEFAULT_SEED = 0
+
+
+def _is_project(folder: Path) -> bool:
+    return any((folder / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+
+
+def project_root(start: str | os.PathLike | None = None) -> Path:
+    """The project folder: the one holding ``notebooks/`` with the numbered notebooks.
+
+    Parameters
+    ----------
+    start : str or os.PathLike, optional
+        Where the search starts (default: the working folder); it goes up from there.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder named by the environment variable ``BLURLOC_ROOT`` when it is set, else the
+        nearest folder at or above ``start`` holding ``notebooks/NN_*.ipynb``.
+
+    Raises
+    ------
+    FileNotFoundError
+        Naming the folder searched from (or the variable's value) when no project is found.
+    """
+    named = os.environ.get(PROJECT_VARIABLE)
+    if named:
+        if not _is_project(Path(named)):
+            raise FileNotFoundError(
+                f"{PROJECT_VARIABLE}={named} holds no notebooks/NN_*.ipynb: "
+                "point it at the blurloc project folder"
+            )
+        return Path(named).resolve()
+    here = Path(start or Path.cwd()).resolve()
+    for folder in (here, *here.parents):
+        if _is_project(folder):
+            return folder
+    raise FileNotFoundError(
+        f"no blurloc project (a folder holding notebooks/NN_*.ipynb) at or above {here}: "
+        f"run from inside the project or set {PROJECT_VARIABLE}"
+    )
+
+
+def __getattr__(name: str) -> Path:
+    """``NOTEBOOKS_DIR``, ``DATA_DIR``, ``RESULTS_DIR``, ``FIGURES_DIR``, ``BUILD_DIR``: the
+    project's folders (:func:`project_root`), found when read."""
+    if name in PROJECT_FOLDERS:
+        return project_root() / PROJECT_FOLDERS[name]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def default_data_root(quick: bool = False) -> Path:
@@ -33,26 +88,9 @@ def default_data_root(quick: bool = False) -> Path:
     Returns
     -------
     pathlib.Path
-        ``data/standin`` (or ``data/standin-quick``) in the repository.
+        ``data/standin`` (or ``data/standin-quick``) in the project (:func:`project_root`).
     """
-    return DATA_DIR / ("standin-quick" if quick else "standin")
-
-
-def resolve_dir(path: str | os.PathLike | None, default: Path) -> Path:
-    """A folder given as a notebook parameter, or its default.
-
-    Parameters
-    ----------
-    path : str or os.PathLike or None
-        The parameter (None or empty: not given).
-    default : pathlib.Path
-        Used when ``path`` is not given.
-
-    Returns
-    -------
-    pathlib.Path
-    """
-    return Path(path) if path else default
+    return project_root() / "data" / ("standin-quick" if quick else "standin")
 
 
 def seed_everything(seed: int) -> None:
@@ -75,15 +113,19 @@ def seed_everything(seed: int) -> None:
     torch.manual_seed(seed)
 
 
-def write_rows(rows: list[dict], path: str | os.PathLike) -> Path:
+def write_rows(
+    rows: list[dict], path: str | os.PathLike, columns: Sequence[str] | None = None
+) -> Path:
     """Write ``rows`` as CSV, atomically (:func:`blurloc.files.atomic_path`).
 
     Parameters
     ----------
     rows : list of dict
-        Rows with the same keys, in order; the keys of the first row are the header.
+        Rows with the same keys, in order.
     path : str or os.PathLike
         CSV file to write; a reader never sees half of it.
+    columns : sequence of str, optional
+        The header (default: the keys of the first row); needed when ``rows`` is empty.
 
     Returns
     -------
@@ -92,7 +134,7 @@ def write_rows(rows: list[dict], path: str | os.PathLike) -> Path:
     """
     path = Path(path)
     with atomic_path(path) as temporary, open(temporary, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer = csv.DictWriter(handle, fieldnames=list(columns or rows[0]))
         writer.writeheader()
         writer.writerows(rows)
     return path

@@ -62,8 +62,13 @@ def paired_interval(
     level : float
         Confidence level in (0, 1).
     method : {"bootstrap", "t"}
-        ``"bootstrap"``: percentile bootstrap, resampling the pairs with replacement
-        (``resamples`` times, seeded); ``"t"``: Student t-interval, mean ± t s / sqrt(N).
+        ``"bootstrap"``: percentile bootstrap (:func:`scipy.stats.bootstrap`), resampling
+        the pairs with replacement ``resamples`` times from a seeded generator and taking
+        the ``(1 - level) / 2`` and ``(1 + level) / 2`` quantiles of the resampled means;
+        ``"t"``: Student t-interval of the mean
+        (:meth:`scipy.stats.ttest_1samp` ``.confidence_interval``),
+
+        .. math:: \\bar d \\pm t_{(1 + \\text{level}) / 2,\\, N - 1} \\, s / \\sqrt{N}.
     resamples : int
         Bootstrap resamples.
     seed : int
@@ -84,18 +89,21 @@ def paired_interval(
         raise ValueError(f"need at least two finite paired differences, got {values.tolist()}")
     if not 0.0 < level < 1.0:
         raise ValueError(f"level must lie in (0, 1), got {level}")
-    mean = float(values.mean())
     if method == "t":
-        half = stats.t.ppf(0.5 + level / 2, values.size - 1) * values.std(ddof=1)
-        half /= np.sqrt(values.size)
-        low, high = mean - half, mean + half
+        bounds = stats.ttest_1samp(values, 0.0).confidence_interval(level)
     elif method == "bootstrap":
-        rng = np.random.default_rng(seed)
-        picks = rng.integers(0, values.size, size=(resamples, values.size))
-        means = values[picks].mean(axis=1)
-        low, high = np.quantile(means, [0.5 - level / 2, 0.5 + level / 2])
+        bounds = stats.bootstrap(
+            (values,),
+            np.mean,
+            n_resamples=resamples,
+            confidence_level=level,
+            method="percentile",
+            rng=np.random.default_rng(seed),
+        ).confidence_interval
     else:
         raise ValueError(f"method must be 'bootstrap' or 't', got {method!r}")
+    low, high = bounds.low, bounds.high
+    mean = float(values.mean())
     return Interval(mean, float(low), float(high), int(values.size), level, method)
 
 

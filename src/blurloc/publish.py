@@ -15,11 +15,8 @@ import json
 import os
 from pathlib import Path
 
-from .config import BUILD_DIR, NOTEBOOKS_DIR
+from .config import project_root
 from .files import atomic_path
-
-#: Where the published copies live.
-PUBLISHED_DIR = NOTEBOOKS_DIR / "executed"
 
 #: The tag papermill gives the cell holding the parameters it injected.
 INJECTED_TAG = "injected-parameters"
@@ -101,8 +98,8 @@ def published_copy(source: dict, executed: dict, name: str = "notebook") -> dict
 
 def publish_notebooks(
     names: list[str],
-    executed_dir: str | os.PathLike = BUILD_DIR,
-    out_dir: str | os.PathLike = PUBLISHED_DIR,
+    executed_dir: str | os.PathLike | None = None,
+    out_dir: str | os.PathLike | None = None,
 ) -> list[Path]:
     """Write the published copy of each notebook (see :func:`published_copy`).
 
@@ -110,10 +107,11 @@ def publish_notebooks(
     ----------
     names : list of str
         Notebook names without ``.ipynb``.
-    executed_dir : str or os.PathLike
-        Where the executed notebooks are (default ``build/``).
-    out_dir : str or os.PathLike
-        Where the published copies go (default :data:`PUBLISHED_DIR`).
+    executed_dir : str or os.PathLike, optional
+        Where the executed notebooks are (default: the project's ``build/``,
+        :func:`blurloc.config.project_root`).
+    out_dir : str or os.PathLike, optional
+        Where the published copies go (default: the project's ``notebooks/executed/``).
 
     Returns
     -------
@@ -127,10 +125,12 @@ def publish_notebooks(
     ValueError
         If a notebook's code changed since it ran.
     """
-    out_dir = Path(out_dir)
+    notebooks = project_root() / "notebooks"
+    executed_dir = Path(executed_dir or project_root() / "build")
+    out_dir = Path(out_dir or notebooks / "executed")
     # every notebook is checked before any copy is written
-    copies = {name: published_copy(_read(NOTEBOOKS_DIR / f"{name}.ipynb"),
-                                   _read(Path(executed_dir) / f"{name}.ipynb"), name)
+    copies = {name: published_copy(_read(notebooks / f"{name}.ipynb"),
+                                   _read(executed_dir / f"{name}.ipynb"), name)
               for name in names}  # fmt: skip
     out_dir.mkdir(parents=True, exist_ok=True)
     written = []
@@ -142,27 +142,28 @@ def publish_notebooks(
     return written
 
 
-def stale_notebooks(
-    names: list[str], published_dir: str | os.PathLike = PUBLISHED_DIR
-) -> list[str]:
+def stale_notebooks(names: list[str], published_dir: str | os.PathLike | None = None) -> list[str]:
     """Notebooks whose published copy is missing or holds other code than the source.
 
     Parameters
     ----------
     names : list of str
         Notebook names without ``.ipynb``.
-    published_dir : str or os.PathLike
-        Where the published copies are.
+    published_dir : str or os.PathLike, optional
+        Where the published copies are (default: the project's ``notebooks/executed/``,
+        :func:`blurloc.config.project_root`).
 
     Returns
     -------
     list of str
         The names whose copy is missing, or whose code cells differ from the notebook's.
     """
+    notebooks = project_root() / "notebooks"
+    published_dir = Path(published_dir or notebooks / "executed")
     stale = []
     for name in names:
-        path = Path(published_dir) / f"{name}.ipynb"
-        source = _read(NOTEBOOKS_DIR / f"{name}.ipynb")
+        path = published_dir / f"{name}.ipynb"
+        source = _read(notebooks / f"{name}.ipynb")
         if not path.is_file() or code_sources(_read(path)) != code_sources(source):
             stale.append(name)
     return stale

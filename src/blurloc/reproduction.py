@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from .experiments.comparisons import per_scene_mean
+from .experiments.rows import grouped_means
 from .paper import reported_numbers
 
 #: Scene order of the paper's tables.
@@ -97,24 +98,21 @@ def measured_numbers(results_dir: str | os.PathLike) -> dict[tuple[str, str, str
     results_dir = Path(results_dir)
     measured: dict[tuple[str, str, str, str], float] = {}
 
-    per_scene: dict[tuple[str, str], list[float]] = defaultdict(list)
-    for row in _read_csv(results_dir / "deblur_single_image.csv"):
-        if row["method"] == "blind_wiener":
-            per_scene[(row["scene"], "psnr_db")].append(float(row["psnr_db"]))
-            per_scene[(row["scene"], "ssim")].append(float(row["ssim"]))
-    for (scene, metric), values in per_scene.items():
-        item = "fig6" if metric == "psnr_db" else "fig7"
-        measured[(item, "proposed_wiener", scene, metric)] = float(np.mean(values))
+    frames = _read_csv(results_dir / "deblur_single_image.csv")
+    for item, metric in (("fig6", "psnr_db"), ("fig7", "ssim")):
+        means = grouped_means(frames, "scene", metric, {"method": "blind_wiener"})
+        for scene, value in means.items():
+            measured[(item, "proposed_wiener", scene, metric)] = value
 
-    summary = [r for r in _read_csv(results_dir / "pose_summary.csv") if r["head"] == "lstm"]
+    summary = _read_csv(results_dir / "pose_summary.csv")
     for item, method, condition, metrics in (
         ("table1", "proposed_blurred", "blurred", ("mae", "mse", "rmse", "combined")),
         ("table2", "proposed_deblurred", "rnn", ("mae", "mse", "rmse", "combined")),
         ("table3", "Proposed", "rnn", ("position_m", "orientation_deg")),
     ):
-        rows = [r for r in summary if r["condition"] == condition]
+        run = {"condition": condition, "head": "lstm"}
         for metric in metrics:
-            values = per_scene_mean(rows, _POSE_METRICS[metric])  # mean over seeds
+            values = per_scene_mean(summary, _POSE_METRICS[metric], run)  # mean over seeds
             for scene, value in values.items():
                 measured[(item, method, scene, metric)] = value
             if item == "table3" and values:

@@ -8,14 +8,7 @@ import sys
 import time
 from pathlib import Path
 
-from .config import (
-    BUILD_DIR,
-    DEFAULT_SEED,
-    FIGURES_DIR,
-    NOTEBOOKS_DIR,
-    RESULTS_DIR,
-    default_data_root,
-)
+from .config import DEFAULT_SEED, default_data_root, project_root
 
 #: Figure and table files (under ``figures_dir``) that each notebook promises to write.
 EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
@@ -156,9 +149,11 @@ def notebook_names() -> list[str]:
     Returns
     -------
     list of str
-        Stems (without .ipynb) of ``notebooks/*.ipynb``, sorted.
+        Stems (without .ipynb) of the project's ``notebooks/NN_*.ipynb``
+        (:func:`blurloc.config.project_root`), sorted.
     """
-    return sorted(path.stem for path in NOTEBOOKS_DIR.glob("[0-9][0-9]_*.ipynb"))
+    notebooks = project_root() / "notebooks"
+    return sorted(path.stem for path in notebooks.glob("[0-9][0-9]_*.ipynb"))
 
 
 def default_parameters(quick: bool) -> dict:
@@ -173,23 +168,25 @@ def default_parameters(quick: bool) -> dict:
     Returns
     -------
     dict
-        quick, seed, data_root, results_dir, figures_dir.
+        quick, seed, data_root, results_dir, figures_dir, device; the folders in the project
+        (:func:`blurloc.config.project_root`).
     """
+    root = project_root()
     if quick:
         return {
             "quick": True,
             "seed": DEFAULT_SEED,
             "data_root": str(default_data_root(quick=True)),
-            "results_dir": str(BUILD_DIR / "quick" / "results"),
-            "figures_dir": str(BUILD_DIR / "quick" / "figures"),
+            "results_dir": str(root / "build" / "quick" / "results"),
+            "figures_dir": str(root / "build" / "quick" / "figures"),
             "device": "auto",
         }
     return {
         "quick": False,
         "seed": DEFAULT_SEED,
         "data_root": str(default_data_root(quick=False)),
-        "results_dir": str(RESULTS_DIR),
-        "figures_dir": str(FIGURES_DIR),
+        "results_dir": str(root / "results"),
+        "figures_dir": str(root / "figures"),
         "device": "auto",
     }
 
@@ -242,7 +239,8 @@ def run_notebooks(
     if unknown:
         raise ValueError(f"unknown notebook(s) {unknown}; available: {available}")
     params = {**default_parameters(quick), **(parameters or {})}
-    output_dir = Path(output_dir or (BUILD_DIR / "quick" if quick else BUILD_DIR))
+    notebooks, build = project_root() / "notebooks", project_root() / "build"
+    output_dir = Path(output_dir or (build / "quick" if quick else build))
     output_dir.mkdir(parents=True, exist_ok=True)
     # The python3 kernel must be this interpreter (the one with blurloc installed).
     os.environ["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), os.environ["PATH"]])
@@ -252,11 +250,11 @@ def run_notebooks(
         executed = output_dir / f"{name}.ipynb"
         try:
             papermill.execute_notebook(
-                str(NOTEBOOKS_DIR / f"{name}.ipynb"),
+                str(notebooks / f"{name}.ipynb"),
                 str(executed),
                 parameters=params,
                 kernel_name="python3",
-                cwd=str(NOTEBOOKS_DIR),
+                cwd=str(notebooks),
                 execution_timeout=cell_timeout_s,
                 log_output=log_output,
                 progress_bar=False,
@@ -268,7 +266,7 @@ def run_notebooks(
             line = ((error.source or "").strip().splitlines() or [""])[0]
             line = line if len(line) <= 60 else f"{line[:57]}..."
             raise NotebookError(
-                f"{NOTEBOOKS_DIR / name}.ipynb: cell In [{error.exec_count}] "
+                f"{notebooks / name}.ipynb: cell In [{error.exec_count}] "
                 f"({line!r}) failed with {error.ename}: {error.evalue} "
                 f"(full traceback in {executed}, cell {error.cell_index})"
             ) from None

@@ -2,10 +2,32 @@
 
 from __future__ import annotations
 
-import csv
 import os
 from collections.abc import Sequence
 from pathlib import Path
+from typing import NamedTuple
+
+from .config import write_rows
+from .files import atomic_path
+
+
+class SavedTable(NamedTuple):
+    """The two files of a saved table; shown in a notebook as the Markdown table.
+
+    Attributes
+    ----------
+    markdown : pathlib.Path
+        ``<name>.md``: the caption and the table in Markdown.
+    csv : pathlib.Path
+        ``<name>.csv``: the same rows as CSV.
+    """
+
+    markdown: Path
+    csv: Path
+
+    def _repr_markdown_(self) -> str:
+        """The Markdown file's text (Jupyter shows it as the cell's output)."""
+        return self.markdown.read_text()
 
 
 def save_table(
@@ -14,8 +36,8 @@ def save_table(
     name: str,
     columns: Sequence[str] | None = None,
     caption: str = "",
-) -> list[Path]:
-    """Save rows as a Markdown table and a CSV file.
+) -> SavedTable:
+    """Save rows as a Markdown table and a CSV file, each written whole (write, then rename).
 
     Parameters
     ----------
@@ -32,28 +54,28 @@ def save_table(
 
     Returns
     -------
-    list of pathlib.Path
-        ``<folder>/<name>.md`` and ``<folder>/<name>.csv``.
+    SavedTable
+        ``<folder>/<name>.md`` and ``<folder>/<name>.csv``; the last expression of a notebook
+        cell, it shows the table.
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     columns = list(columns or rows[0].keys())
-    csv_path, md_path = folder / f"{name}.csv", folder / f"{name}.md"
-    with open(csv_path, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=columns, extrasaction="ignore")
-        writer.writeheader()
-        writer.writerows(rows)
+    table = [{column: row.get(column, "") for column in columns} for row in rows]
+    csv_path = write_rows(table, folder / f"{name}.csv", columns)
     lines = [caption, ""] if caption else []
     lines.append("| " + " | ".join(columns) + " |")
     lines.append("|" + "|".join("---" for _ in columns) + "|")
-    lines += ["| " + " | ".join(str(row.get(c, "")) for c in columns) + " |" for row in rows]
-    md_path.write_text("\n".join(lines) + "\n")
-    return [md_path, csv_path]
+    lines += ["| " + " | ".join(str(row[c]) for c in columns) + " |" for row in table]
+    md_path = folder / f"{name}.md"
+    with atomic_path(md_path) as temporary:
+        temporary.write_text("\n".join(lines) + "\n")
+    return SavedTable(md_path, csv_path)
 
 
 def save_findings(
     findings: dict[str, object], folder: str | os.PathLike, name: str, caption: str = ""
-) -> list[Path]:
+) -> SavedTable:
     """Save the numbers a notebook's conclusions quote, one row per quantity.
 
     The conclusions are Markdown written by a person; every decimal number in them must be one
@@ -73,7 +95,7 @@ def save_findings(
 
     Returns
     -------
-    list of pathlib.Path
+    SavedTable
         ``<folder>/<name>.md`` and ``<folder>/<name>.csv``.
     """
     rows = [{"quantity": quantity, "value": value} for quantity, value in findings.items()]

@@ -11,6 +11,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from ..processes import process_alive
+from ..stored import complete
 from .synth_config import SynthConfig
 
 FORMAT_VERSION = 5  # bump whenever rendering changes, so stale stand-ins are rendered again
@@ -119,12 +120,12 @@ def manifest_expectations(root: str | os.PathLike) -> dict[str, tuple[int, int, 
 
 def is_up_to_date(manifest_path: Path, manifest: dict) -> bool:
     """True when the stand-in at ``manifest_path`` was rendered as ``manifest`` describes. A
-    setting added to :class:`SynthConfig` after it was rendered counts as its default (every
-    new setting's default renders what the renderer rendered before it existed)."""
+    setting added to :class:`SynthConfig` after it was rendered counts as its default
+    (:func:`blurloc.stored.complete`)."""
     try:
         stored = json.loads(manifest_path.read_text())
         defaults = manifest_record(SynthConfig(), 0, [])["config"]
-        stored["config"] = {**defaults, **stored["config"]}
+        stored["config"] = complete(stored["config"], defaults)
         return stored == manifest
     except (OSError, ValueError, KeyError, TypeError):
         return False

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..intervals import paired_interval, verdict
+from .rows import grouped_means, grouped_values, matching
 
 
 def paired_differences(
@@ -37,7 +38,8 @@ def paired_differences(
     units : tuple of str
         Columns that identify a pair (default scene and seed).
     where : dict, optional
-        Only rows whose columns equal these values (e.g. ``{"head": "lstm"}``).
+        Only rows whose columns equal these values (e.g. ``{"head": "lstm"}``), compared as
+        text (:func:`blurloc.experiments.rows.matching`).
 
     Returns
     -------
@@ -51,8 +53,7 @@ def paired_differences(
     ValueError
         If a unit appears twice for one level, or no unit has both levels.
     """
-    where = where or {}
-    chosen = [r for r in rows if all(r.get(k) == v for k, v in where.items())]
+    chosen = matching(rows, where)
     tables: dict[str, dict[tuple, float]] = {baseline: {}, other: {}}
     for row in chosen:
         level = row.get(factor)
@@ -144,8 +145,7 @@ def per_scene_mean(rows: list[dict], metric: str, where: dict | None = None) -> 
     dict
         ``{scene: mean over the scene's runs}``, scenes in the rows' order.
     """
-    grouped = _by_scene(rows, metric, where)
-    return {scene: float(np.mean(values)) for scene, values in grouped.items()}
+    return grouped_means(rows, "scene", metric, where)
 
 
 def per_scene_spread(rows: list[dict], metric: str, where: dict | None = None) -> dict[str, float]:
@@ -163,14 +163,4 @@ def per_scene_spread(rows: list[dict], metric: str, where: dict | None = None) -
         one run.
     """
     return {scene: float(np.std(values, ddof=1)) if len(values) > 1 else 0.0
-            for scene, values in _by_scene(rows, metric, where).items()}  # fmt: skip
-
-
-def _by_scene(rows: list[dict], metric: str, where: dict | None) -> dict[str, list[float]]:
-    """``metric`` of the rows matching ``where`` (compared as text), grouped by scene."""
-    where = {key: str(value) for key, value in (where or {}).items()}
-    grouped: dict[str, list[float]] = {}
-    for row in rows:
-        if all(str(row.get(key)) == value for key, value in where.items()):
-            grouped.setdefault(row["scene"], []).append(float(row[metric]))
-    return grouped
+            for scene, values in grouped_values(rows, "scene", metric, where).items()}  # fmt: skip

@@ -24,6 +24,7 @@ from ..deconv import (
 from ..images import as_float_image
 from ..metrics import psnr, ssim
 from ..paper import paper_values
+from .rows import grouped_means
 
 
 def _interior_psnr(sharp: np.ndarray, image: np.ndarray, border: int) -> float:
@@ -339,13 +340,9 @@ def per_scene_means(rows: list[dict], metric: str) -> dict[str, dict[str, float]
         ``{method: {scene: mean, ..., "mean": mean of the per-scene means}}``, scenes in
         first-seen order.
     """
-    methods = list(dict.fromkeys(r["method"] for r in rows))
-    scenes = list(dict.fromkeys(r["scene"] for r in rows))
     table = {}
-    for method in methods:
-        values = {scene: float(np.mean([r[metric] for r in rows
-                                        if r["method"] == method and r["scene"] == scene]))
-                  for scene in scenes}  # fmt: skip
+    for method in dict.fromkeys(r["method"] for r in rows):
+        values = grouped_means(rows, "scene", metric, {"method": method})
         table[method] = {**values, "mean": float(np.mean(list(values.values())))}
     return table
 

@@ -26,6 +26,7 @@ from ..train.datasets import FrameCache
 from ..train.loop import parallel_map
 from ..train.pose import train_pose
 from .comparisons import per_scene_mean
+from .rows import grouped_values, matching
 
 CONDITIONS = ("blurred", "wiener", "rnn", "sharp")
 
@@ -394,10 +395,7 @@ def seed_spread(summaries: list[dict], condition: str, head: str, key: str) -> f
     float
         Sample standard deviation (ddof 1) over seeds of the mean over scenes; 0 with one seed.
     """
-    by_seed: dict[str, list[float]] = {}
-    for row in summaries:
-        if row["condition"] == condition and row["head"] == head:
-            by_seed.setdefault(str(row["seed"]), []).append(float(row[key]))
+    by_seed = grouped_values(summaries, "seed", key, {"condition": condition, "head": head})
     means = [float(np.mean(values)) for values in by_seed.values()]
     return float(np.std(means, ddof=1)) if len(means) > 1 else 0.0
 
@@ -436,7 +434,7 @@ def pose_overview(
     }
     rows = []
     for condition, head in runs:
-        seeds = {r["seed"] for r in summaries if r["condition"] == condition and r["head"] == head}
+        seeds = {r["seed"] for r in matching(summaries, {"condition": condition, "head": head})}
         row = {"condition": condition, "head": head, "seeds": len(seeds)}
         for name, (key, digits) in columns.items():
             row[name] = round(scene_mean(summaries, condition, head, key), digits)

@@ -27,6 +27,7 @@ from ..geometry import intrinsics
 from ..images import as_float_image, linear_to_srgb, srgb_to_linear
 from ..metrics import psnr, ssim
 from .deblurring import paper_fig6_7
+from .rows import grouped_means, matching
 
 #: The runs, each (kernel, intensity space, NSR): one ingredient changes between neighbours.
 VARIANTS = {
@@ -355,7 +356,7 @@ def oracle_summary(rows: list[dict]) -> list[dict]:
 
     table = []
     for variant in ["blurred", *VARIANTS]:
-        subset = [r for r in rows if r["variant"] == variant]
+        subset = matching(rows, {"variant": variant})
         gains = frame_gains(rows, variant)[1]
         half = (student.ppf(0.975, len(gains) - 1) * gains.std(ddof=1) / np.sqrt(len(gains))
                 if len(gains) > 1 else float("nan"))  # fmt: skip
@@ -433,9 +434,8 @@ def per_scene_table(rows: list[dict]) -> list[dict]:
         for variant, label in (("blurred", "blurred"), ("blind", "blind_wiener"),
                                ("path_linear_best", "oracle_wiener")):  # fmt: skip
             for metric in ("psnr_db", "ssim"):
-                per_scene = [np.mean([r[metric] for r in rows
-                                      if r["variant"] == variant and r["scene"] == s])
-                             for s in (scenes if scene == "mean" else [scene])]  # fmt: skip
+                means = grouped_means(rows, "scene", metric, {"variant": variant})
+                per_scene = [means[s] for s in (scenes if scene == "mean" else [scene])]
                 row[f"{label}_{metric}"] = round(float(np.mean(per_scene)), 4)
         table.append({**row, **paper_fig6_7(scene)})
     return table

@@ -3,7 +3,10 @@
 The encoder is a ResNet written here, with torchvision's module names (``conv1``, ``bn1``,
 ``layer1``…``layer4``, blocks with ``conv1/bn1/conv2/bn2/downsample``), so ImageNet weights of
 torchvision's resnet18/34, saved by the user to a local file, load with
-:func:`load_encoder_weights` (nothing is ever downloaded). The head is an LSTM (the paper's
+:func:`load_encoder_weights` (nothing is ever downloaded). It is written here rather than taken
+from torchvision because torchvision's wheels for this torch are built against CUDA torch and do
+not import beside the CPU build, and because the ``"small"`` encoder (widths 16-128) is not a
+width torchvision's basic-block ResNet offers. The head is an LSTM (the paper's
 choice), a bidirectional LSTM, a GRU, or none (each frame alone: the PoseNet-style baseline).
 Output: position (3, metres, camera-to-world) and a unit quaternion (w, x, y, z) with w >= 0.
 """

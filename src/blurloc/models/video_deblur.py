@@ -32,6 +32,8 @@ import torch
 import torch.nn.functional as F
 from torch import nn
 
+from ..stored import VIDEO_SWITCHES_ADDED, complete
+
 
 @dataclass(frozen=True)
 class VideoDeblurConfig:
@@ -69,8 +71,8 @@ class VideoDeblurConfig:
         """The configuration a checkpoint stored (:meth:`as_dict`).
 
         A switch added to the network after the checkpoint was made is absent from it and
-        means off, whatever its default now: the stored network was trained without it (the
-        networks stored before ``bounded_state`` existed have unbounded states).
+        means off, whatever its default now (:data:`blurloc.stored.VIDEO_SWITCHES_ADDED`,
+        the package's one rule for stored files: :mod:`blurloc.stored`).
 
         Parameters
         ----------
@@ -92,12 +94,7 @@ class VideoDeblurConfig:
         ----------
         The paper's eq. 8-11 (the parts the switches turn off).
         """
-        return cls(**{**SWITCHES_OFF, **settings})
-
-
-#: The switches of :class:`VideoDeblurConfig` added after the first checkpoints, all off:
-#: what a stored configuration that lacks them means.
-SWITCHES_OFF = {"align": False, "bounded_state": False}
+        return cls(**complete(settings, VIDEO_SWITCHES_ADDED))
 
 
 class ResidualBlock(nn.Module):

@@ -22,6 +22,7 @@ import torch
 
 from ..checkpoints import checkpoint_kind, load_checkpoint
 from ..processes import watch_parent
+from ..stored import changes, complete, switches_off
 
 #: Fraction of every training sequence held out (at its end) for validation.
 VALIDATION_FRACTION = 0.15
@@ -191,7 +192,7 @@ def resume_state(
             )
         if restart:
             continue
-        changed = _changed(payload, settings)
+        changed = changes(complete(payload, switches_off(settings)), settings)
         if changed:
             raise ValueError(f"{path}: made with other settings ({', '.join(changed)}); give "
                              "--restart to start afresh (its results are replaced) or another "
@@ -199,23 +200,6 @@ def resume_state(
         if name == "last.pt":
             resumed = payload
     return resumed
-
-
-def _changed(stored: dict, wanted: dict, prefix: str = "") -> list[str]:
-    """Names of the entries of ``wanted`` that ``stored`` lacks or holds otherwise (nested).
-
-    A switch that is off (False or None) and absent from ``stored`` is not a change: switches
-    are added to the settings off, as the behaviour of the runs made before them."""
-    changed = []
-    for key, value in wanted.items():
-        if isinstance(stored, dict) and key not in stored and (value is False or value is None):
-            continue
-        old = stored.get(key) if isinstance(stored, dict) else None
-        if isinstance(value, dict) and isinstance(old, dict):
-            changed += _changed(old, value, f"{prefix}{key}.")
-        elif old != value:
-            changed.append(f"{prefix}{key}: {old!r} -> {value!r}")
-    return changed
 
 
 def parallel_map(
