@@ -1,0 +1,214 @@
+"""Today's stages measured on the real development set (``samples/real``, see its README).
+
+    python benchmarks/bench_real.py [--out figures/bench_real]
+
+Measures, with the package's current API and defaults:
+
+- blur detection (:func:`blurloc.blur.detect_blur`): the share of real sharp photographs
+  reported sharp and the share of real blurred photographs flagged, with every score;
+- blind blur length on the 80 consecutive posed TUM RGB-D frames: Spearman rank correlation of
+  :func:`blurloc.blur.estimate_motion_blur`'s length, of the detector's score and of the negated
+  variance of the Laplacian with the camera's image motion, at 640x480 and at 320x240, over all
+  frames and over the half with the slower motion;
+- blind Wiener deblurring (:func:`blurloc.deconv.deblur_blind`): PSNR against the sharp frame
+  before and after, on the real blurred/sharp pairs;
+- the TUM reader of ``pose-error`` (:func:`blurloc.trajectory.read_tum`) on the real TUM files.
+
+The camera's image motion of a frame is the mean displacement of a 16x12 grid of pixels, placed
+at the frame's median depth, between the poses of the frames before and after it, halved: px per
+frame interval. The motion during the exposure is that times exposure / frame interval; the
+Kinect's exposure is not recorded, and a constant factor leaves rank correlations unchanged.
+Lens distortion is ignored. Writes ``OUT.md`` and ``OUT.csv`` (one row per measure).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import datetime
+import sys
+from pathlib import Path
+
+import cv2
+import numpy as np
+from scipy.stats import spearmanr
+
+from blurloc.blur import detect_blur, estimate_motion_blur
+from blurloc.data import load_split
+from blurloc.data.real import (
+    POSED_SCENE,
+    load_pairs,
+    load_photographs,
+    posed_camera,
+    posed_frame_table,
+    posed_root,
+    tum_files,
+    verify,
+)
+from blurloc.deconv import deblur_blind
+from blurloc.experiments.blur_estimation import TRAINING_PHOTOS, variance_of_laplacian
+from blurloc.geometry import backproject, project
+from blurloc.metrics import psnr
+from blurloc.trajectory import read_tum
+
+GRID = (16, 12)
+#: File stems of scikit-image photographs whose ``skimage.data`` function has another name.
+SKIMAGE_NAMES = {"ihc": "immunohistochemistry", "motorcycle_left": "stereo_motorcycle"}
+
+
+def image_motion_px(poses: np.ndarray, depths_m: np.ndarray, camera: np.ndarray) -> np.ndarray:
+    """Mean image displacement per frame interval of a grid of pixels at each frame's depth.
+
+    .. math::
+
+        m_i = \\frac{1}{2G} \\sum_{g}
+              \\lVert \\pi(T_{i+1}^{-1} T_{i-1}\\, \\pi^{-1}(u_g, d_i)) - u_g \\rVert
+
+    with :math:`\\pi` the pinhole projection, :math:`T` camera-to-world poses, :math:`d_i` the
+    frame's median depth and :math:`G` grid points (one-sided, not halved, at the ends).
+
+    Parameters
+    ----------
+    poses : numpy.ndarray
+        (N, 4, 4) camera-to-world poses of consecutive frames, metres.
+    depths_m : numpy.ndarray
+        (N,) scene depth of each frame, metres.
+    camera : numpy.ndarray
+        (3, 3) camera matrix, pixels.
+
+    Returns
+    -------
+    numpy.ndarray
+        (N,) px per frame interval.
+    """
+    width, height = 2 * camera[0, 2], 2 * camera[1, 2]
+    u, v = np.meshgrid(np.linspace(0, width, GRID[0] + 2)[1:-1],
+                       np.linspace(0, height, GRID[1] + 2)[1:-1])  # fmt: skip
+    grid = np.column_stack([u.ravel(), v.ravel()])
+    motion = np.empty(len(poses))
+    for i in range(len(poses)):
+        before, after = max(i - 1, 0), min(i + 1, len(poses) - 1)
+        points = backproject(grid, np.full(len(grid), depths_m[i]), poses[before], camera)
+        moved = project(points, poses[after], camera)[:, :2]
+        motion[i] = np.linalg.norm(moved - grid, axis=1).mean() / (after - before)
+    return motion
+
+
+def detection_rows(rows: list[dict]) -> list[str]:
+    """Blur detection on real photographs; returns the Markdown lines of the per-image table.
+    The share is given over all photographs and over those the length model was not fitted on
+    (``TRAINING_PHOTOS``)."""
+    lines = ["| part | photograph | score (px) | reported | fitted on |", "|---|---|---|---|---|"]
+    for part, expected in (("sharp", False), ("blurred", True)):
+        verdicts = {}
+        for name, image in load_photographs(part).items():
+            flagged, score = detect_blur(image)
+            verdicts[name] = flagged == expected
+            fitted = "yes" if SKIMAGE_NAMES.get(name, name) in TRAINING_PHOTOS else "no"
+            lines.append(f"| {part} | {name} | {score:.2f} | "
+                         f"{'blurred' if flagged else 'sharp'} | {fitted} |")  # fmt: skip
+        measure = "share reported sharp" if part == "sharp" else "share flagged blurred"
+        unseen = [ok for name, ok in verdicts.items()
+                  if SKIMAGE_NAMES.get(name, name) not in TRAINING_PHOTOS]  # fmt: skip
+        for label, values in (("", list(verdicts.values())), (", not fitted on", unseen)):
+            share = round(float(np.mean(values)), 3)
+            rows.append({"stage": "detect_blur", "data": f"real {part} photographs{label}",
+                         "n": len(values), "measure": measure, "value": share,
+                         "target": ">= 0.9"})  # fmt: skip
+    return lines
+
+
+def motion_rows(rows: list[dict]) -> None:
+    """Rank correlations of blur measures with the camera's image motion on the posed frames."""
+    root = posed_root()
+    sequences = [s for split in ("train", "test") for s in load_split(root, POSED_SCENE, split)]
+    poses = np.concatenate([s.poses() for s in sequences])
+    images = np.concatenate([s.images() for s in sequences])
+    depths = np.array([float(row["depth_median_m"]) for row in posed_frame_table()])
+    motion = image_motion_px(poses, depths, posed_camera())
+    rows.append({"stage": "camera motion", "data": "real TUM fr1_rpy frames", "n": len(motion),
+                 "measure": "image motion per frame interval, px (median; 5th-95th pct)",
+                 "value": f"{np.median(motion):.1f} ({np.percentile(motion, 5):.1f}-"
+                          f"{np.percentile(motion, 95):.1f})", "target": ""})  # fmt: skip
+    for scale in (1, 2):
+        frames = [cv2.resize(image, None, fx=1 / scale, fy=1 / scale, interpolation=cv2.INTER_AREA)
+                  for image in images]  # fmt: skip
+        size = f"{frames[0].shape[1]}x{frames[0].shape[0]}"
+        measures = {
+            "estimate_motion_blur length": [estimate_motion_blur(f).length_px for f in frames],
+            "detect_blur score": [detect_blur(f)[1] for f in frames],
+            "negated variance of the Laplacian": [-variance_of_laplacian(f) for f in frames],
+        }
+        slower = motion <= np.median(motion)
+        for name, values in measures.items():
+            for subset, chosen in (("", np.ones_like(slower)), (", slower half", slower)):
+                rho = spearmanr(motion[chosen], np.asarray(values)[chosen]).statistic
+                rows.append({"stage": name, "data": f"real TUM fr1_rpy frames, {size}{subset}",
+                             "n": int(chosen.sum()), "measure": "Spearman with camera image motion",
+                             "value": round(float(rho), 3),
+                             "target": ">= 0.5" if "length" in name else ""})  # fmt: skip
+        flagged = np.mean([detect_blur(f)[0] for f in frames])
+        rows.append({"stage": "detect_blur", "data": f"real TUM fr1_rpy frames, {size}",
+                     "n": len(frames), "measure": "share flagged blurred",
+                     "value": round(float(flagged), 3), "target": ""})  # fmt: skip
+
+
+def deblur_rows(rows: list[dict]) -> None:
+    """PSNR of blind Wiener deblurring against the sharp frame on the real pairs."""
+    for name, blurred, sharp in load_pairs():
+        before = psnr(sharp, blurred, data_range=255)
+        after = psnr(sharp, deblur_blind(blurred), data_range=255)
+        rows.append({"stage": "deblur_blind", "data": f"real pair {name}", "n": 1,
+                     "measure": "PSNR dB: blurred -> deblurred (change)",
+                     "value": f"{before:.2f} -> {after:.2f} ({after - before:+.2f})",
+                     "target": "> 0 change"})  # fmt: skip
+
+
+def tum_rows(rows: list[dict]) -> None:
+    """Whether the TUM reader of ``pose-error`` accepts each real ground-truth file."""
+    for path in tum_files():
+        try:
+            stamps, _, _ = read_tum(path)
+            value = f"read {len(stamps)} poses"
+        except ValueError as error:
+            value = f"refused: {error}"
+        rows.append({"stage": "read_tum (pose-error)", "data": path.name, "n": 1,
+                     "measure": "accepts the real file", "value": value,
+                     "target": "accepted"})  # fmt: skip
+
+
+def write(out: Path, rows: list[dict], detection: list[str], command: str) -> None:
+    """Write ``out.csv`` and ``out.md`` with the command and the date."""
+    date = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with out.with_suffix(".csv").open("w", newline="") as handle:
+        handle.write(f"# {command}; {date}\n")
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+    lines = [f"Today's stages on the real development set (`samples/real`). Command: `{command}`; "
+             f"{date}.", "", "| stage | data | n | measure | value | target |",
+             "|---|---|---|---|---|---|"]  # fmt: skip
+    lines += [f"| {r['stage']} | {r['data']} | {r['n']} | {r['measure']} | {r['value']} | "
+              f"{r['target']} |" for r in rows]  # fmt: skip
+    lines += ["", "Per photograph (`detect_blur`, default threshold):", "", *detection]
+    out.with_suffix(".md").write_text("\n".join(lines) + "\n")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", default="figures/bench_real", help="output path without suffix")
+    args = parser.parse_args()
+    verify()
+    rows: list[dict] = []
+    detection = detection_rows(rows)
+    motion_rows(rows)
+    deblur_rows(rows)
+    tum_rows(rows)
+    for row in rows:
+        print(" | ".join(str(v) for v in row.values()))
+    write(Path(args.out), rows, detection, "python " + " ".join(sys.argv))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,226 @@
+"""Reader of the real development set described by ``samples/real/MANIFEST.csv``. Torch-free.
+
+The manifest lists every file with its part (``sharp``, ``blurred``, ``pairs``, ``posed``,
+``tum``), source repository, commit, path in the source, licence and sha256. Files named
+``skimage:<name>`` are read from the installed scikit-image; the others from the data root
+(:func:`data_root`). Every problem is reported as a :class:`~blurloc.data.sevenscenes.DataError`
+naming the file.
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import skimage
+
+from .sevenscenes import DataError, read_image
+
+REPOSITORY = Path(__file__).resolve().parents[3]
+MANIFEST = REPOSITORY / "samples" / "real" / "MANIFEST.csv"
+ROOT_VARIABLE = "BLURLOC_REAL_DATA"
+PARTS = ("sharp", "blurred", "pairs", "posed", "tum")
+POSED_SCENE = "fr1_rpy"
+SKIMAGE_PREFIX = "skimage:"
+_COLUMNS = ["file", "part", "source_repository", "commit", "source_path", "licence", "sha256",
+            "description"]  # fmt: skip
+
+
+@dataclass(frozen=True)
+class ManifestEntry:
+    """One row of the manifest: a file of the development set and where it came from."""
+
+    file: str
+    part: str
+    source_repository: str
+    commit: str
+    source_path: str
+    licence: str
+    sha256: str
+    description: str
+
+
+def read_manifest(path: str | os.PathLike = MANIFEST) -> list[ManifestEntry]:
+    """Read the manifest and check that every row is complete.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The manifest CSV.
+
+    Returns
+    -------
+    list of ManifestEntry
+        In file order.
+
+    Raises
+    ------
+    DataError
+        Naming the manifest (and line) when it is missing, its header differs, a row lacks a
+        file, part, source, licence or a 64-digit sha256, a part is unknown, or a file repeats.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise DataError(f"{path}: manifest is missing")
+    with path.open(newline="") as handle:
+        reader = csv.DictReader(handle)
+        if reader.fieldnames != _COLUMNS:
+            raise DataError(f"{path}: header must be {','.join(_COLUMNS)}")
+        entries = [ManifestEntry(**row) for row in reader]
+    seen: set[str] = set()
+    for line, entry in enumerate(entries, start=2):
+        if not (entry.file and entry.source_repository and entry.licence):
+            raise DataError(f"{path}:{line}: file, source_repository and licence are required")
+        if entry.part not in PARTS:
+            raise DataError(f"{path}:{line}: part {entry.part!r} is not one of {PARTS}")
+        if len(entry.sha256) != 64 or set(entry.sha256) - set("0123456789abcdef"):
+            raise DataError(f"{path}:{line}: sha256 of {entry.file} is not 64 hex digits")
+        if entry.file in seen:
+            raise DataError(f"{path}:{line}: {entry.file} is listed twice")
+        seen.add(entry.file)
+    return entries
+
+
+def data_root() -> Path:
+    """Folder holding the development set's files.
+
+    The folder named by the environment variable ``BLURLOC_REAL_DATA`` when it is set, else the
+    first of ``samples/real`` and ``../shared/real`` (beside the repository) that holds the
+    manifest's first file outside scikit-image; ``samples/real`` when neither does.
+    """
+    if os.environ.get(ROOT_VARIABLE):
+        return Path(os.environ[ROOT_VARIABLE])
+    local = MANIFEST.parent
+    first = next(e.file for e in read_manifest() if not e.file.startswith(SKIMAGE_PREFIX))
+    for candidate in (local, REPOSITORY.parent / "shared" / "real"):
+        if (candidate / first).is_file():
+            return candidate
+    return local
+
+
+def entry_path(entry: ManifestEntry, root: str | os.PathLike | None = None) -> Path:
+    """Where a manifest file lies: in scikit-image's data folder, or under ``root``."""
+    if entry.file.startswith(SKIMAGE_PREFIX):
+        return Path(skimage.__file__).parent / "data" / entry.file.removeprefix(SKIMAGE_PREFIX)
+    return Path(root if root is not None else data_root()) / entry.file
+
+
+def sha256_of(path: str | os.PathLike) -> str:
+    """Hex sha256 of a file's bytes."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def verify(
+    root: str | os.PathLike | None = None, manifest: str | os.PathLike = MANIFEST
+) -> list[ManifestEntry]:
+    """Check every file of the manifest against its sha256.
+
+    Parameters
+    ----------
+    root : str or os.PathLike, optional
+        Data root (:func:`data_root` when None).
+    manifest : str or os.PathLike
+        The manifest CSV.
+
+    Returns
+    -------
+    list of ManifestEntry
+        The entries checked.
+
+    Raises
+    ------
+    DataError
+        Naming the first file that is missing or whose sha256 differs from the manifest's.
+    """
+    entries = read_manifest(manifest)
+    for entry in entries:
+        path = entry_path(entry, root)
+        if not path.is_file():
+            raise DataError(f"{path}: missing (listed in {manifest} as {entry.file})")
+        digest = sha256_of(path)
+        if digest != entry.sha256:
+            raise DataError(f"{path}: sha256 {digest} differs from the manifest's {entry.sha256}")
+    return entries
+
+
+def part_entries(part: str, manifest: str | os.PathLike = MANIFEST) -> list[ManifestEntry]:
+    """The manifest's entries of one part (``sharp``, ``blurred``, ``pairs``, ``posed``,
+    ``tum``), in manifest order."""
+    if part not in PARTS:
+        raise ValueError(f"part must be one of {PARTS}, got {part!r}")
+    return [entry for entry in read_manifest(manifest) if entry.part == part]
+
+
+def _stem(entry: ManifestEntry) -> str:
+    return Path(entry.file.removeprefix(SKIMAGE_PREFIX)).stem
+
+
+def load_photographs(part: str, root: str | os.PathLike | None = None) -> dict[str, np.ndarray]:
+    """The photographs of part ``sharp`` or ``blurred``, by file stem, as RGB uint8 (H, W, 3)
+    (gray photographs repeated over three channels)."""
+    if part not in ("sharp", "blurred"):
+        raise ValueError(f"part must be 'sharp' or 'blurred', got {part!r}")
+    return {_stem(e): read_image(entry_path(e, root)) for e in part_entries(part)}
+
+
+def load_pairs(root: str | os.PathLike | None = None) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """The blurred/sharp pairs, cut to their common top-left area.
+
+    Returns
+    -------
+    list of (str, numpy.ndarray, numpy.ndarray)
+        Name (the blurred file's stem without ``_blur``), blurred and sharp RGB uint8 images of
+        equal shape.
+
+    Raises
+    ------
+    DataError
+        When a ``_blur`` file has no ``_sharp`` partner in the manifest.
+    """
+    files = {e.file: e for e in part_entries("pairs")}
+    pairs = []
+    for name, entry in files.items():
+        if not name.endswith("_blur" + Path(name).suffix):
+            continue
+        partner = name.replace("_blur", "_sharp")
+        if partner not in files:
+            raise DataError(f"{entry_path(entry, root)}: no sharp partner {partner} listed")
+        blurred = read_image(entry_path(entry, root))
+        sharp = read_image(entry_path(files[partner], root))
+        height, width = (min(a, b) for a, b in zip(blurred.shape[:2], sharp.shape[:2], strict=True))
+        pairs.append((_stem(entry).removesuffix("_blur"), blurred[:height, :width],
+                      sharp[:height, :width]))  # fmt: skip
+    return pairs
+
+
+def posed_root(root: str | os.PathLike | None = None) -> Path:
+    """The 7-Scenes-layout root of the posed frames (scene ``fr1_rpy``), for
+    :func:`~blurloc.data.sevenscenes.load_split`."""
+    return Path(root if root is not None else data_root()) / "posed"
+
+
+def posed_camera(root: str | os.PathLike | None = None) -> np.ndarray:
+    """The posed frames' 3x3 camera matrix, from ``intrinsics.txt`` (first line fx fy cx cy).
+
+    .. math:: K = \\begin{pmatrix} f_x & 0 & c_x \\\\ 0 & f_y & c_y \\\\ 0 & 0 & 1 \\end{pmatrix}
+    """
+    path = posed_root(root) / POSED_SCENE / "intrinsics.txt"
+    lines = [line for line in path.read_text().splitlines() if not line.startswith("#")]
+    fx, fy, cx, cy = (float(v) for v in lines[0].split())
+    return np.array([[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]])
+
+
+def posed_frame_table(root: str | os.PathLike | None = None) -> list[dict[str, str]]:
+    """Rows of the posed frames' ``frames.csv``: frame file, sequence, TUM stamp, source file,
+    depth stamp and median depth in metres, in recording order."""
+    with (posed_root(root) / POSED_SCENE / "frames.csv").open(newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def tum_files(root: str | os.PathLike | None = None) -> list[Path]:
+    """The real TUM RGB-D ground-truth files (``stamp tx ty tz qx qy qz qw`` lines)."""
+    return [entry_path(entry, root) for entry in part_entries("tum")]

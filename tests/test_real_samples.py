@@ -1,0 +1,151 @@
+"""The real development set: manifest, checksums, and what the reader returns."""
+
+from __future__ import annotations
+
+import csv
+import re
+import shutil
+
+import cv2
+import numpy as np
+import pytest
+
+from blurloc.data import load_split
+from blurloc.data.real import (
+    MANIFEST,
+    POSED_SCENE,
+    SKIMAGE_PREFIX,
+    DataError,
+    data_root,
+    entry_path,
+    load_pairs,
+    load_photographs,
+    part_entries,
+    posed_camera,
+    posed_frame_table,
+    posed_root,
+    read_manifest,
+    tum_files,
+    verify,
+)
+
+ENTRIES = read_manifest()
+FILES_PRESENT = all(entry_path(e).is_file() for e in ENTRIES)
+needs_files = pytest.mark.skipif(
+    not FILES_PRESENT, reason=f"the development set's files are not under {data_root()}"
+)
+
+
+def test_manifest_lists_every_part_with_source_licence_and_commit():
+    parts = {entry.part for entry in ENTRIES}
+    assert parts == {"sharp", "blurred", "pairs", "posed", "tum"}
+    for entry in ENTRIES:
+        if "/" in entry.source_repository and entry.source_repository != "this repository":
+            assert len(entry.commit) == 40 and entry.source_path, entry.file
+        assert entry.description, entry.file
+
+
+@needs_files
+def test_every_staged_file_is_in_the_manifest():
+    root = data_root()
+    listed = {e.file for e in ENTRIES if not e.file.startswith(SKIMAGE_PREFIX)}
+    on_disk = {
+        p.relative_to(root).as_posix()
+        for p in root.rglob("*")
+        if p.is_file() and p.name not in {"MANIFEST.csv", "README.md"}
+    }
+    assert on_disk == listed
+
+
+@needs_files
+def test_checksums_match_the_manifest():
+    assert len(verify()) == len(ENTRIES)
+
+
+def test_scikit_image_photographs_match_their_checksums(tmp_path):
+    manifest = tmp_path / "MANIFEST.csv"
+    with MANIFEST.open() as source, manifest.open("w") as target:
+        rows = [line for line in source if line.startswith(("file,", SKIMAGE_PREFIX))]
+        target.writelines(rows)
+    assert len(verify(tmp_path, manifest)) == len(rows) - 1 >= 17
+
+
+def test_a_changed_or_missing_file_is_named(tmp_path):
+    entry = next(e for e in ENTRIES if e.file.startswith(SKIMAGE_PREFIX))
+    copy = tmp_path / "photo.png"
+    shutil.copyfile(entry_path(entry), copy)
+    manifest = tmp_path / "MANIFEST.csv"
+    header = MANIFEST.read_text().splitlines()[0]
+    with manifest.open("w", newline="") as handle:
+        handle.write(header + "\n")
+        csv.writer(handle).writerow(
+            ["photo.png", "sharp", "x/y", "0" * 40, "a.png", "CC0", entry.sha256, "a copy"]
+        )
+    assert verify(tmp_path, manifest)[0].file == "photo.png"
+    copy.write_bytes(copy.read_bytes() + b"\0")
+    with pytest.raises(DataError, match=re.escape("photo.png: sha256")):
+        verify(tmp_path, manifest)
+    copy.unlink()
+    with pytest.raises(DataError, match=re.escape("photo.png: missing")):
+        verify(tmp_path, manifest)
+
+
+def test_an_incomplete_manifest_row_is_refused(tmp_path):
+    manifest = tmp_path / "MANIFEST.csv"
+    lines = MANIFEST.read_text().splitlines()
+    manifest.write_text("\n".join([lines[0], lines[1].replace(ENTRIES[0].sha256, "abc")]) + "\n")
+    with pytest.raises(DataError, match=r"MANIFEST.csv:2: sha256"):
+        read_manifest(manifest)
+
+
+def test_sharp_photographs_are_rgb_images():
+    photographs = load_photographs("sharp")
+    assert len(photographs) == len(part_entries("sharp")) >= 17
+    for name, image in photographs.items():
+        assert image.dtype == np.uint8 and image.ndim == 3 and image.shape[2] == 3, name
+        assert min(image.shape[:2]) >= 64, name  # the blur analysis needs 64 px
+
+
+@needs_files
+def test_posed_frames_have_the_stated_size_and_rigid_poses():
+    root = posed_root()
+    frames = [s for split in ("train", "test") for s in load_split(root, POSED_SCENE, split)]
+    assert sum(len(s) for s in frames) == len(posed_frame_table()) == 80
+    video = frames[0].images(frame_ids=frames[0].frame_ids[:3])
+    assert video.shape == (3, 480, 640, 3)
+    poses = np.concatenate([s.poses() for s in frames])
+    rotations = poses[:, :3, :3]
+    assert np.allclose(rotations @ rotations.transpose(0, 2, 1), np.eye(3), atol=1e-6)
+    assert np.allclose(np.linalg.det(rotations), 1.0, atol=1e-6)
+    steps = np.linalg.norm(np.diff(poses[:, :3, 3], axis=0), axis=1)
+    assert steps.max() < 0.05  # consecutive 30 Hz frames of a handheld camera
+    camera = posed_camera()
+    assert camera[0, 0] == pytest.approx(517.3) and camera[1, 2] == pytest.approx(255.3)
+
+
+@needs_files
+def test_pairs_are_aligned():
+    pairs = load_pairs()
+    assert pairs
+    margin = 4
+    for name, blurred, sharp in pairs:
+        assert blurred.shape == sharp.shape, name
+        gray = [np.float32(cv2.cvtColor(image, cv2.COLOR_RGB2GRAY)) for image in (blurred, sharp)]
+        inside = (slice(margin, -margin), slice(margin, -margin))
+        errors = {
+            (dy, dx): np.mean(
+                (np.roll(gray[0], (dy, dx), axis=(0, 1))[inside] - gray[1][inside]) ** 2
+            )
+            for dy in range(-3, 4)
+            for dx in range(-3, 4)
+        }
+        dy, dx = min(errors, key=errors.get)
+        assert abs(dy) <= 1 and abs(dx) <= 1, name  # the blur is centred on the sharp frame
+
+
+@needs_files
+def test_tum_files_hold_unit_quaternions():
+    for path in tum_files():
+        table = np.loadtxt(path, comments="#")
+        assert table.shape[1] == 8 and len(table) > 1000, path
+        assert np.allclose(np.linalg.norm(table[:, 4:], axis=1), 1.0, atol=1e-3), path
