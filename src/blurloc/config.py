@@ -93,6 +93,23 @@ def default_data_root(quick: bool = False) -> Path:
     return project_root() / "data" / ("standin-quick" if quick else "standin")
 
 
+def resolve_dir(path: str | os.PathLike | None, default: Path) -> Path:
+    """A folder given as a notebook parameter, or its default.
+
+    Parameters
+    ----------
+    path : str or os.PathLike or None
+        The parameter (None or empty: not given).
+    default : pathlib.Path
+        Used when ``path`` is not given.
+
+    Returns
+    -------
+    pathlib.Path
+    """
+    return Path(path) if path else default
+
+
 def seed_everything(seed: int) -> None:
     """Seed Python, NumPy and torch's generators.
 
