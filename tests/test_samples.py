@@ -52,8 +52,9 @@ def test_camera_motion_of_chosen_frames_matches_all_frames() -> None:
     poses[:, :3, :3] = Rotation.from_rotvec(np.cumsum(rng.normal(0, 0.01, (9, 3)), 0)).as_matrix()
     poses[:, :3, 3] = np.cumsum(rng.normal(0, 0.01, (9, 3)), 0)
     distances = rng.uniform(1, 3, 9)
-    every = camera_motion_px(poses, distances, 500.0)
+    camera, size = intrinsics(640, 480), (640, 480)
+    every = camera_motion_px(poses, distances, camera, size)
     chosen = np.array([0, 4, 8])
-    np.testing.assert_allclose(camera_motion_px(poses, distances[chosen], 500.0, chosen),
+    np.testing.assert_allclose(camera_motion_px(poses, distances[chosen], camera, size, chosen),
                                every[chosen])  # fmt: skip
     assert (every > 0).all()

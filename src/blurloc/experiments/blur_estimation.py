@@ -9,7 +9,6 @@ import os
 import cv2
 import numpy as np
 import skimage.data
-from scipy.spatial.transform import Rotation
 from scipy.stats import spearmanr
 from tqdm.auto import tqdm
 
@@ -27,8 +26,7 @@ from ..blur import (
 from ..data.samples import split_frames
 from ..data.sevenscenes import SequenceFrames, read_depth, read_image
 from ..data.stats import read_blur_metadata
-from ..geometry import intrinsics
-from ..poses import rotation_angles_deg
+from ..geometry import image_motion_px, intrinsics
 from .estimation import angle_error_deg
 
 
@@ -296,14 +294,18 @@ def variance_of_laplacian(image: np.ndarray) -> float:
 
 
 def camera_motion_px(
-    poses: np.ndarray, distances_m: np.ndarray, focal_px: float, indices: np.ndarray | None = None
+    poses: np.ndarray,
+    distances_m: np.ndarray,
+    camera: np.ndarray,
+    image_size: tuple[int, int],
+    indices: np.ndarray | None = None,
 ) -> np.ndarray:
     """How far the image moves per frame interval, from poses and depth only.
 
-    For each frame (or each of ``indices``), half the image-plane motion between its neighbours
-    (frame - 1 to frame + 1; one-sided at the ends): the rotation angle times the focal length
-    plus the translation times the focal length over the frame's median depth. Needs nothing
-    but what 7-Scenes provides, so the same check runs on real frames.
+    For each frame (or each of ``indices``), half the image motion between its neighbours
+    (frame - 1 to frame + 1; one-sided at the ends), by :func:`~blurloc.geometry.image_motion_px`
+    at the frame's median depth. Needs nothing but what 7-Scenes (or TUM RGB-D) provides, so the
+    same check runs on real frames.
 
     Parameters
     ----------
@@ -311,8 +313,10 @@ def camera_motion_px(
         (N, 4, 4) camera-to-world poses of consecutive frames, metres.
     distances_m : np.ndarray
         (M,) median scene depth of each frame evaluated, metres.
-    focal_px : float
-        Focal length in px at the frames' size.
+    camera : np.ndarray
+        (3, 3) camera matrix of the frames, pixels.
+    image_size : tuple of int
+        (width, height) of the frames, pixels.
     indices : np.ndarray or None
         (M,) positions in ``poses`` of the frames to evaluate; None evaluates all (M = N).
 
@@ -325,11 +329,10 @@ def camera_motion_px(
     indices = np.arange(len(poses)) if indices is None else np.asarray(indices)
     after = np.minimum(indices + 1, len(poses) - 1)
     before = np.maximum(indices - 1, 0)
-    rotations = Rotation.from_matrix(poses[:, :3, :3])
-    turn = np.radians(rotation_angles_deg(rotations[before], rotations[after]))
-    shift = np.linalg.norm(poses[after, :3, 3] - poses[before, :3, 3], axis=1)
     steps = np.maximum(after - before, 1)
-    return focal_px * (turn + shift / np.asarray(distances_m, float)) / steps
+    moved = [image_motion_px(poses[b], poses[a], camera, image_size, float(d))
+             for b, a, d in zip(before, after, np.asarray(distances_m, float), strict=True)]  # fmt: skip
+    return np.array(moved) / steps
 
 
 def motion_rank_correlation(
@@ -367,9 +370,10 @@ def motion_rank_correlation(
     for (scene, number), (sequence, ids) in chosen.items():
         depths = [read_depth(sequence.path(frame, "depth")) for frame in ids]
         distances = [float(np.median(d[d > 0])) if (d > 0).any() else 1.0 for d in depths]
-        focal = intrinsics(depths[0].shape[1], depths[0].shape[0])[0, 0]
+        size = (depths[0].shape[1], depths[0].shape[0])
         indices = np.searchsorted(sequence.frame_ids, ids)
-        motion = camera_motion_px(sequence.poses(), np.array(distances), focal, indices)
+        motion = camera_motion_px(sequence.poses(), np.array(distances), intrinsics(*size), size,
+                                  indices)  # fmt: skip
         values = []
         for frame, moved in tqdm(zip(ids, motion, strict=True), total=len(ids),
                                  disable=not progress, desc=f"{scene} {number}"):  # fmt: skip
