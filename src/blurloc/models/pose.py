@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import asdict, dataclass
+from pathlib import Path
 
 import torch
 import torch.nn.functional as F
@@ -94,8 +95,17 @@ class ResNetEncoder(nn.Module):
 def load_encoder_weights(encoder: ResNetEncoder, path: str | os.PathLike) -> list[str]:
     """Load ImageNet weights from a local state-dict file (e.g. torchvision's resnet34, saved
     with ``torch.save(model.state_dict(), path)``); the classifier (``fc.*``) is skipped.
-    Returns the encoder keys the file did not provide; ValueError on a shape mismatch."""
-    state = torch.load(path, map_location="cpu", weights_only=True)
+    Returns the encoder keys the file did not provide; ValueError naming the file when it is
+    missing, not a state dict of tensors, or of another shape."""
+    if not Path(path).is_file():
+        raise ValueError(f"{path}: encoder weights file is missing")
+    try:
+        state = torch.load(path, map_location="cpu", weights_only=True)
+    except Exception:  # torch raises several types for damaged, foreign or pickled files
+        raise ValueError(f"{path}: not a state dict of tensors (damaged, or it holds other "
+                         "objects)") from None  # fmt: skip
+    if not isinstance(state, dict) or not all(isinstance(v, torch.Tensor) for v in state.values()):
+        raise ValueError(f"{path}: not a state dict of tensors")
     state = {k: v for k, v in state.items() if not k.startswith("fc.")}
     own = encoder.state_dict()
     wrong = [k for k, v in state.items() if k in own and own[k].shape != v.shape]
