@@ -189,7 +189,8 @@ def train_video_deblur(
     out_dir : str or os.PathLike
         The run folder.
     config : VideoTrainConfig, optional
-        Settings (defaults when None).
+        Settings (defaults when None). A crop larger than the longest side of the training
+        frames is clamped to it, with a warning, and recorded clamped.
     progress : bool
         Show a progress bar.
     restart : bool
