@@ -338,7 +338,7 @@ def test_ctrl_c_in_synth_prints_one_line_from_the_whole_process_group(tmp_path: 
     _, err = process.communicate(timeout=60)
     assert process.returncode == 130, err
     assert err.strip().splitlines() == [
-        "interrupted; run the same command again to finish the render"
+        "interrupted; run the same command again to render it in full"
     ], err
 
 

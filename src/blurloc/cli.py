@@ -394,7 +394,7 @@ def build_parser() -> argparse.ArgumentParser:
     synth.add_argument("--workers", type=int, help="processes (default: one per core)")
     synth.add_argument("--overwrite", action="store_true", help="render even if up to date")
     synth.add_argument("--quiet", action="store_true", help="no progress bar")
-    synth.set_defaults(handler=_synth, resume="run the same command again to finish the render")
+    synth.set_defaults(handler=_synth, resume="run the same command again to render it in full")
 
     check = commands.add_parser("check-data", help="validate a 7-Scenes-layout root, print counts")
     check.add_argument("root")
