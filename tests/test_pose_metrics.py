@@ -148,13 +148,27 @@ def test_association_by_sorted_search_is_the_greedy_rule_and_scales() -> None:
         associate([0.0, 0.0], [0.0], 0.01)
 
 
-def test_duplicate_stamps_with_two_poses_are_refused(tmp_path: Path) -> None:
-    line = "1.0 0 0 0 0 0 0 1\n"
-    (tmp_path / "same.txt").write_text(line + line + "2.0 1 0 0 0 0 0 1\n")
-    assert len(read_tum(tmp_path / "same.txt")[0]) == 2
-    (tmp_path / "t.txt").write_text(line + "1.0 0.5 0 0 0 0 0 1\n")
-    with pytest.raises(DataError, match=r"t\.txt: stamp 1 is given two different poses"):
-        read_tum(tmp_path / "t.txt")
+def test_a_repeated_stamp_keeps_its_first_pose_and_is_said_once(
+    tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    # as TUM RGB-D's fr2/desk ground truth: one stamp on two lines with slightly other poses
+    (tmp_path / "truth.txt").write_text(
+        "# timestamp tx ty tz qx qy qz qw\n"
+        "1311868229.5460 0.10 0.20 0.30 0 0 0 1\n"
+        "1311868229.5760 0.11 0.20 0.30 0 0 0 1\n"
+        "1311868229.5760 0.12 0.20 0.30 0 0 0 1\n"
+        "1311868229.6060 0.13 0.20 0.30 0 0 0 1\n"
+    )
+    with pytest.warns(UserWarning, match=r"1 line\(s\) repeat .*first: 1311868229\.576\)"):
+        stamps, positions, _ = read_tum(tmp_path / "truth.txt")
+    np.testing.assert_array_equal(stamps, [1311868229.546, 1311868229.576, 1311868229.606])
+    np.testing.assert_allclose(positions[:, 0], [0.10, 0.11, 0.13])  # the first line is kept
+    assert main(["pose-error", str(tmp_path / "truth.txt"), str(tmp_path / "truth.txt")]) == 0
+    warned = [line for line in capsys.readouterr().err.splitlines() if "repeat" in line]
+    assert len(warned) == 2  # once per file read (here the same file twice)
+    write_tum(tmp_path / "copy.txt", stamps, np.tile(np.eye(4), (3, 1, 1)))
+    assert (tmp_path / "copy.txt").read_text().split()[0] == "1311868229.546"  # not 1.31187e+09
+    np.testing.assert_array_equal(read_tum(tmp_path / "copy.txt")[0], stamps)
 
 
 @pytest.mark.parametrize(

@@ -11,6 +11,7 @@ from scipy.spatial.transform import Rotation
 from blurloc.data import load_split
 from blurloc.data.samples import frame_stride, split_frames
 from blurloc.experiments.blur_estimation import camera_motion_px, length_training_set
+from blurloc.geometry import image_motion_px, intrinsics, make_pose
 
 
 def test_frame_stride_reads_about_the_budget() -> None:
@@ -58,3 +59,22 @@ def test_camera_motion_of_chosen_frames_matches_all_frames() -> None:
     np.testing.assert_allclose(camera_motion_px(poses, distances[chosen], camera, size, chosen),
                                every[chosen])  # fmt: skip
     assert (every > 0).all()
+
+
+def test_image_motion_follows_the_pinhole_camera() -> None:
+    camera, size = intrinsics(640, 480), (640, 480)
+    still = np.eye(4)
+    # a sideways step of t at depth z moves every pixel by f t / z
+    step = make_pose(np.eye(3), np.array([0.02, 0.0, 0.0]))
+    assert image_motion_px(still, step, camera, size, 2.0) == pytest.approx(585 * 0.02 / 2.0)
+    # a small pan by angle a moves the image by about f a (a little more off the axis); a roll
+    # by the same angle moves each pixel by its distance from the centre times a, far less
+    angle = np.radians(1.0)
+    pan = make_pose(Rotation.from_euler("y", angle).as_matrix(), np.zeros(3))
+    roll = make_pose(Rotation.from_euler("z", angle).as_matrix(), np.zeros(3))
+    assert 585 * angle <= image_motion_px(still, pan, camera, size, 2.0) <= 1.15 * 585 * angle
+    rolled = image_motion_px(still, roll, camera, size, 2.0)
+    assert rolled < 0.5 * 585 * angle
+    assert rolled == pytest.approx(angle * 200, rel=0.25)  # mean distance from the centre ~ 200 px
+    with pytest.raises(ValueError, match="depth_m"):
+        image_motion_px(still, step, camera, size, 0.0)

@@ -4,13 +4,39 @@ from __future__ import annotations
 
 import argparse
 import json
+import signal
 import sys
-from collections.abc import Sequence
+import threading
+import warnings
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 
 from .config import DEFAULT_SEED
-from .files import check_output_not_input
+from .files import check_output, image_files
 from .images import IMAGE_SUFFIXES
+
+#: Largest seed NumPy's legacy seeding accepts (2**32 - 1).
+MAX_SEED = 2**32 - 1
+
+
+def _check_seed(args: argparse.Namespace) -> None:
+    """ValueError naming ``--seed`` when the command has one outside 0 to :data:`MAX_SEED`."""
+    seed = getattr(args, "seed", None)
+    if seed is not None and not 0 <= seed <= MAX_SEED:
+        raise ValueError(f"--seed must be a whole number from 0 to {MAX_SEED}, got {seed}")
+
+
+@contextmanager
+def _warnings_to_stderr() -> Iterator[None]:
+    """Print each warning raised inside the block as one ``warning:`` line on stderr."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield
+        finally:
+            for warning in caught:
+                print(f"warning: {warning.message}", file=sys.stderr)
 
 
 def _synth(args: argparse.Namespace) -> int:
@@ -119,9 +145,9 @@ def _load_kernel(path: Path):
     else:
         import cv2
 
-        kernel = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE | cv2.IMREAD_ANYDEPTH)
-        if kernel is None:
-            raise ValueError(f"{path}: kernel image cannot be read")
+        from .files import decode_image
+
+        kernel = decode_image(path, cv2.IMREAD_GRAYSCALE | cv2.IMREAD_ANYDEPTH)
     try:
         return check_kernel(kernel)
     except ValueError as error:
@@ -157,23 +183,19 @@ def _deblur(args: argparse.Namespace) -> int:
         raise ValueError(f"--length must be a finite number of pixels > 0, got {args.length}")
     if args.angle is not None and not math.isfinite(args.angle):
         raise ValueError(f"--angle must be a finite number of degrees, got {args.angle}")
-    check_output_not_input(target, source, args.kernel)
     if source.is_dir():
-        if target.exists() and not target.is_dir():
-            raise ValueError(f"{target}: exists and is not a folder (the input is a folder)")
-        pairs = [(p, target / p.name) for p in sorted(source.iterdir())
-                 if p.suffix.lower() in IMAGE_SUFFIXES and p.is_file()]  # fmt: skip
+        pairs = [(p, target / p.name) for p in image_files(source)]
         if not pairs:
             raise ValueError(f"{source}: no images in this folder")
+        names = [p.name for p, _ in pairs]
     elif source.is_file():
-        if target.is_dir():
-            raise ValueError(f"{target}: is a folder; give an image file as the output")
-        if target.suffix.lower() not in IMAGE_SUFFIXES:
+        if target.suffix.lower() not in IMAGE_SUFFIXES and not target.is_dir():
             raise ValueError(f"{target}: output must be an image file ending in "
                              f"{', '.join(IMAGE_SUFFIXES)}")  # fmt: skip
-        pairs = [(source, target)]
+        pairs, names = [(source, target)], None
     else:
         raise ValueError(f"{source}: no such file or folder")
+    check_output(target, source, args.kernel, names=names, overwrite=args.overwrite)
     kernel = _load_kernel(Path(args.kernel)) if args.kernel else None
     for path_in, path_out in pairs:
         image, alpha = read_image_file(path_in)
@@ -217,6 +239,7 @@ def _train_video_deblur(args: argparse.Namespace) -> int:
         },
     )
     choose_device(config.device)  # a bad --device is named before the frames are read
+    check_output(args.out, args.data, names=())
     if args.validation_per_scene < 0:
         raise ValueError(f"--validation-per-scene must be >= 0 (0: all), got "
                          f"{args.validation_per_scene}")  # fmt: skip
@@ -229,8 +252,9 @@ def _train_video_deblur(args: argparse.Namespace) -> int:
         validation_per_scene=args.validation_per_scene or None,
     )
     splits = add_photo_videos(splits, args.photo_videos)
-    history = train_video_deblur(splits, args.out, config, progress=not args.quiet,
-                                 restart=args.restart)  # fmt: skip
+    with _warnings_to_stderr():
+        history = train_video_deblur(splits, args.out, config, progress=not args.quiet,
+                                     restart=args.restart)  # fmt: skip
     print(json.dumps({"checkpoint": str(Path(args.out) / "best.pt"),
                       "best_val_psnr_db": round(max(history["val_psnr"]), 3),
                       "steps": history["step"][-1]}))  # fmt: skip
@@ -238,20 +262,25 @@ def _train_video_deblur(args: argparse.Namespace) -> int:
 
 
 def _deblur_video(args: argparse.Namespace) -> int:
-    check_output_not_input(args.output, args.input, args.checkpoint)
-    import cv2
-
     from .data.frames import list_frames, read_frames
+    from .files import image_header, write_image_file
     from .inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_frames
 
     model = load_video_deblur(args.checkpoint or DEFAULT_CHECKPOINT)
     paths = list_frames(args.input)
     target = Path(args.output)
+    check_output(target, args.input, args.checkpoint, names=[p.name for p in paths],
+                 overwrite=args.overwrite)  # fmt: skip
+    for path in paths:  # the network restores 8-bit RGB: refuse what it would change
+        header = image_header(path)
+        if (header.bit_depth, header.channels) != (8, 3):
+            raise ValueError(f"{path}: {header.describe()} frame; deblur-video restores 8-bit "
+                             "RGB frames only and would change it (convert the frames, or use "
+                             "`blurloc deblur`, which keeps depth and channels)")  # fmt: skip
     target.mkdir(parents=True, exist_ok=True)
     restored = restore_frames(model, read_frames(paths))  # streamed: one chunk held at a time
     for path, frame in zip(paths, restored, strict=True):
-        if not cv2.imwrite(str(target / path.name), frame[..., ::-1]):
-            raise ValueError(f"{target / path.name}: cannot write this image")
+        write_image_file(target / path.name, frame)
     print(json.dumps({"frames": len(paths), "output": str(target)}))
     return 0
 
@@ -264,6 +293,7 @@ def _train_pose(args: argparse.Namespace) -> int:
     from .train.pose import train_pose
 
     root = _input_root(args.data, args.input)
+    check_output(args.out, args.data, root, names=())
     config = PoseTrainConfig(seed=args.seed, device=args.device,
                              model=PoseConfig(head=args.head, encoder=args.encoder))  # fmt: skip
     overrides = {"epochs": args.epochs, "resize": args.resize, "crop": args.crop,
@@ -295,7 +325,7 @@ def _input_root(data: str, condition: str) -> Path:
 
 
 def _eval_pose(args: argparse.Namespace) -> int:
-    check_output_not_input(args.out, args.model)
+    check_output(args.out, args.model, args.data, overwrite=args.overwrite)
     import warnings
 
     import numpy as np
@@ -327,8 +357,17 @@ def _pose_error(args: argparse.Namespace) -> int:
     if not args.max_difference > 0:  # also refuses NaN
         raise ValueError(f"--max-difference must be a positive number of seconds, got "
                          f"{args.max_difference}")  # fmt: skip
-    print(json.dumps(compare_trajectories(args.ground_truth, args.estimate, args.max_difference)))
+    with _warnings_to_stderr():
+        errors = compare_trajectories(args.ground_truth, args.estimate, args.max_difference)
+    print(json.dumps(errors))
     return 0
+
+
+#: Help of the ``--overwrite`` option of the commands that write files.
+OVERWRITE_HELP = "replace output files of the same names (refused without it)"
+#: What a trainer's interruption line says.
+RESUME_TRAINING = ("--out keeps the last finished epoch or validation and history.json; run the "
+                   "same command again to resume")  # fmt: skip
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -355,7 +394,7 @@ def build_parser() -> argparse.ArgumentParser:
     synth.add_argument("--workers", type=int, help="processes (default: one per core)")
     synth.add_argument("--overwrite", action="store_true", help="render even if up to date")
     synth.add_argument("--quiet", action="store_true", help="no progress bar")
-    synth.set_defaults(handler=_synth)
+    synth.set_defaults(handler=_synth, resume="run the same command again to render it in full")
 
     check = commands.add_parser("check-data", help="validate a 7-Scenes-layout root, print counts")
     check.add_argument("root")
@@ -376,6 +415,7 @@ def build_parser() -> argparse.ArgumentParser:
     deblur.add_argument("--length", type=float, help="linear motion blur length, px")
     deblur.add_argument("--angle", type=float, help="its angle, degrees CCW from horizontal")
     deblur.add_argument("--nsr", type=float, help="noise-to-signal ratio (default: estimated)")
+    deblur.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
     deblur.set_defaults(handler=_deblur)
 
     train = commands.add_parser(
@@ -409,7 +449,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="start afresh, replacing a run with other settings in --out",
     )
     train.add_argument("--quiet", action="store_true", help="no progress bar")
-    train.set_defaults(handler=_train_video_deblur)
+    train.set_defaults(handler=_train_video_deblur, resume=RESUME_TRAINING)
 
     video = commands.add_parser(
         "deblur-video", help="deblur a video folder with the recurrent network"
@@ -417,6 +457,7 @@ def build_parser() -> argparse.ArgumentParser:
     video.add_argument("input", help="7-Scenes sequence folder or folder of images")
     video.add_argument("output", help="folder for the deblurred frames (same names)")
     video.add_argument("--checkpoint", help="network checkpoint (default: the shipped one)")
+    video.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
     video.set_defaults(handler=_deblur_video)
 
     pose = commands.add_parser("train-pose", help="train camera pose regression on one scene")
@@ -455,13 +496,14 @@ def build_parser() -> argparse.ArgumentParser:
         help="start afresh, replacing a run with other settings in --out",
     )
     pose.add_argument("--quiet", action="store_true", help="no progress bar")
-    pose.set_defaults(handler=_train_pose)
+    pose.set_defaults(handler=_train_pose, resume=RESUME_TRAINING)
 
     evaluate = commands.add_parser("eval-pose", help="predict a scene's test frames (TUM file)")
     evaluate.add_argument("--data", required=True)
     evaluate.add_argument("--scene", required=True)
     evaluate.add_argument("--model", required=True, help="checkpoint or train-pose --out folder")
     evaluate.add_argument("--out", required=True, help="TUM file to write")
+    evaluate.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
     evaluate.set_defaults(handler=_eval_pose)
 
     error = commands.add_parser("pose-error", help="errors between two trajectories (JSON)")
@@ -486,14 +528,34 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _interrupt(signum: int, frame: object) -> None:
+    """SIGTERM handler: end the command as Ctrl-C does (its files are finished first)."""
+    raise KeyboardInterrupt
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``blurloc`` console script; returns the exit status."""
+    """Entry point of the ``blurloc`` console script; returns the exit status.
+
+    Errors are one ``error:`` line (status 1). Ctrl-C and SIGTERM end a command the same way:
+    the trainers write ``history.json`` and keep their last checkpoint, and one line says how
+    to resume (status 130).
+    """
     args = build_parser().parse_args(argv)
+    in_main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _interrupt) if in_main_thread else None
     try:
+        _check_seed(args)
         return args.handler(args)
     except (ValueError, OSError) as error:  # DataError is a ValueError and names the file
         print(f"error: {error}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        resume = getattr(args, "resume", None)
+        print(f"interrupted{f'; {resume}' if resume else ''}", file=sys.stderr)
+        return 130
+    finally:
+        if in_main_thread:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

@@ -1,5 +1,6 @@
-"""Files the commands read and write: an output never over an input, every file written whole
-(atomic rename), images kept at their own bit depth and with their alpha channel, files carried
+"""Files the commands read and write: an output never over an input, into a dataset or over a
+training run, every file written whole (atomic rename), images checked from their header before
+they are decoded and kept at their own bit depth and with their alpha channel, files carried
 into a copy by hard link."""
 
 from __future__ import annotations
@@ -7,14 +8,21 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
+from .image_headers import MAX_PIXELS_VARIABLE, ImageHeader, max_pixels, parse_header
+from .images import IMAGE_SUFFIXES
+
 #: Image suffixes whose files store 16-bit samples and an alpha channel (others: 8-bit colour).
 DEEP_SUFFIXES = (".png", ".tif", ".tiff")
+#: Files whose presence makes a folder a scene of a 7-Scenes-layout dataset.
+SPLIT_FILES = ("TrainSplit.txt", "TestSplit.txt")
+#: Files of a training run folder (the two checkpoints first); only the trainer writes them.
+RUN_FILES = ("last.pt", "best.pt", "history.json")
 
 
 def check_output_not_input(output: str | os.PathLike, *inputs: str | os.PathLike | None) -> None:
@@ -49,6 +57,125 @@ def check_output_not_input(output: str | os.PathLike, *inputs: str | os.PathLike
             raise ValueError(
                 f"{output}: output lies inside the input folder {source}; choose another place"
             )
+
+
+def dataset_folder(path: str | os.PathLike) -> Path | None:
+    """The folder of a 7-Scenes-layout dataset that ``path`` is or lies in, if any.
+
+    A folder belongs to a dataset when it holds split files (:data:`SPLIT_FILES`: a scene),
+    ground-truth poses (``frame-*.pose.txt``: a sequence), or a subfolder with split files (a
+    root). A folder of deblurred frames alone (what ``deblur-video`` writes) is not a dataset.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file or folder, existing or not.
+
+    Returns
+    -------
+    pathlib.Path or None
+        The innermost such folder among ``path`` and its parents; None when there is none.
+    """
+    resolved = Path(path).resolve()
+    for folder in (resolved, *resolved.parents):
+        if folder.is_dir() and _holds_dataset(folder):
+            return folder
+    return None
+
+
+def _holds_dataset(folder: Path) -> bool:
+    def scene(candidate: Path) -> bool:
+        return any((candidate / name).is_file() for name in SPLIT_FILES)
+
+    try:
+        return (
+            scene(folder)
+            or next(folder.glob("frame-*.pose.txt"), None) is not None
+            or any(child.is_dir() and scene(child) for child in folder.iterdir())
+        )
+    except OSError:  # a folder this user may not list holds nothing this command reads
+        return False
+
+
+def check_output(
+    output: str | os.PathLike,
+    *inputs: str | os.PathLike | None,
+    names: Iterable[str] | None = None,
+    overwrite: bool = False,
+) -> None:
+    """Refuse an output that would write over or into an input, a dataset or a training run.
+
+    The shared check of every command that writes: ``output`` is none of the inputs and lies
+    in none of the input folders (:func:`check_output_not_input`), lies in no 7-Scenes-layout
+    dataset (:func:`dataset_folder`), is not a file of a training run (:data:`RUN_FILES` beside
+    a ``best.pt`` or ``last.pt``), and replaces no existing file unless ``overwrite``.
+
+    Parameters
+    ----------
+    output : str or os.PathLike
+        The file, or the folder, the command is about to write.
+    *inputs : str or os.PathLike or None
+        Files or folders the command reads; ``None`` entries (options not given) are skipped.
+    names : iterable of str, optional
+        When ``output`` is a folder: the names of the files the command writes into it (an
+        empty tuple for a folder whose files the command manages itself, such as a run
+        folder). None when ``output`` is a file.
+    overwrite : bool
+        Allow replacing existing files of the same names (the option ``--overwrite``).
+
+    Raises
+    ------
+    ValueError
+        Naming the output and the reason, before anything is written.
+    """
+    check_output_not_input(output, *inputs)
+    target = Path(output)
+    dataset = dataset_folder(target)
+    if dataset is not None:
+        raise ValueError(f"{output}: lies in the dataset {dataset} (it holds split files or "
+                         "ground-truth poses); write outside it")  # fmt: skip
+    if target.name in RUN_FILES and any((target.parent / n).is_file() for n in RUN_FILES[:2]):
+        raise ValueError(f"{output}: is a file of the training run in {target.parent}; "
+                         "write elsewhere")  # fmt: skip
+    if names is None:
+        if target.is_dir():
+            raise ValueError(f"{output}: is a folder; give a file to write")
+        clash = [target.name] if target.exists() else []
+    else:
+        if target.exists() and not target.is_dir():
+            raise ValueError(f"{output}: exists and is not a folder; give a folder to write")
+        clash = sorted(n for n in names if (target / n).exists())
+    if clash and not overwrite:
+        where = (
+            "exists"
+            if names is None
+            else f"already holds {len(clash)} file(s) of the names to write (e.g. {clash[0]})"
+        )
+        raise ValueError(f"{output}: {where}; give --overwrite to replace")  # fmt: skip
+
+
+def image_files(folder: str | os.PathLike) -> list[Path]:
+    """The images a folder command reads, in name order.
+
+    In a 7-Scenes sequence folder only the colour frames (``frame-*.color.png``): never its
+    depth maps or the stand-in's sharp frames. In any other folder every file with an image
+    suffix (:data:`~blurloc.images.IMAGE_SUFFIXES`).
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        An existing folder.
+
+    Returns
+    -------
+    list of pathlib.Path
+        Possibly empty.
+    """
+    folder = Path(folder)
+    frames = sorted(p for p in folder.glob("frame-*.color.png") if p.is_file())
+    if frames:
+        return frames
+    return sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in IMAGE_SUFFIXES)
 
 
 @contextmanager
@@ -86,13 +213,63 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
         temporary.unlink(missing_ok=True)
 
 
-def decode_image(path: str | os.PathLike, flags: int) -> np.ndarray:
-    """Decode an image file with OpenCV, or raise a ValueError naming it.
+def image_header(path: str | os.PathLike) -> ImageHeader:
+    """The header of an image file, checked against the pixel cap and for completeness.
 
     Parameters
     ----------
     path : str or os.PathLike
-        Image file.
+        A PNG, JPEG, BMP or TIFF file.
+
+    Returns
+    -------
+    ImageHeader
+        Its size, bit depth and channels.
+
+    Raises
+    ------
+    ValueError
+        Naming the file, when it is a folder, missing, of another format, truncated, or larger
+        than the pixel cap (:func:`~blurloc.image_headers.max_pixels`, naming the cap and
+        :data:`~blurloc.image_headers.MAX_PIXELS_VARIABLE`).
+    """
+    return _checked_header(Path(path), _file_bytes(Path(path)))
+
+
+def _file_bytes(path: Path) -> bytes:
+    if path.is_dir():
+        raise ValueError(f"{path}: is a folder, not an image file")
+    if not path.is_file():
+        raise ValueError(f"{path}: image file is missing")
+    return path.read_bytes()
+
+
+def _checked_header(path: Path, data: bytes) -> ImageHeader:
+    header = parse_header(data)
+    if header is None:
+        raise ValueError(f"{path}: image cannot be read (damaged, or not a PNG, JPEG, BMP or "
+                         "TIFF image)")  # fmt: skip
+    cap = max_pixels()
+    if header.pixels > cap:
+        raise ValueError(f"{path}: {header.width}x{header.height} pixels is more than the cap "
+                         f"of {cap:,} pixels; set {MAX_PIXELS_VARIABLE} to raise it")  # fmt: skip
+    if not header.complete:
+        raise ValueError(f"{path}: image file is truncated (its {header.format} data stops "
+                         "early); refusing a partly decoded image")  # fmt: skip
+    return header
+
+
+def decode_image(path: str | os.PathLike, flags: int) -> np.ndarray:
+    """Decode an image file with OpenCV after checking its header, or raise a ValueError
+    naming it.
+
+    The file is read once; its header (:func:`image_header`) is checked against the pixel cap
+    and for truncation before a pixel is decoded.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Image file (PNG, JPEG, BMP or TIFF).
     flags : int
         ``cv2.IMREAD_*`` flags.
 
@@ -104,14 +281,15 @@ def decode_image(path: str | os.PathLike, flags: int) -> np.ndarray:
     Raises
     ------
     ValueError
-        Naming the file, when it is missing, damaged or not an image.
+        Naming the file, when it is missing, a folder, damaged, truncated, not an image, or
+        larger than the pixel cap.
     """
     import cv2  # here, so that commands which read no image start fast
 
     path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"{path}: image file is missing")
-    image = cv2.imread(str(path), flags)
+    data = _file_bytes(path)
+    _checked_header(path, data)
+    image = cv2.imdecode(np.frombuffer(data, np.uint8), flags)
     if image is None:
         raise ValueError(f"{path}: image cannot be read (damaged or not an image)")
     return image

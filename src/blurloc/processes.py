@@ -9,6 +9,7 @@ as soon as the process that started the pool is gone.
 from __future__ import annotations
 
 import os
+import signal
 import threading
 import time
 
@@ -37,7 +38,9 @@ def process_alive(pid: int) -> bool:
 def watch_parent(parent_pid: int, interval_s: float = 0.2) -> None:
     """End this process as soon as process ``parent_pid`` is gone (a pool's initializer).
 
-    A daemon thread polls the PID and exits the process when it no longer runs. (With
+    A daemon thread polls the PID and exits the process when it no longer runs. The worker
+    leaves Ctrl-C to the parent: the terminal sends SIGINT to every process of the command, and
+    the parent stops the pool, so one line is printed instead of a traceback per worker. (With
     forkserver a worker's own parent is the fork server, which lives as long as the workers, so
     ``os.getppid`` cannot tell; hence the PID of the process that made the pool.)
 
@@ -54,4 +57,5 @@ def watch_parent(parent_pid: int, interval_s: float = 0.2) -> None:
             time.sleep(interval_s)
         os._exit(1)
 
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     threading.Thread(target=watch, daemon=True, name="watch-parent").start()

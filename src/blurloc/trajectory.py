@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import heapq
 import os
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -16,14 +17,31 @@ from scipy.spatial.transform import Rotation
 
 from .data.sevenscenes import list_sequence
 from .errors import DataError
+from .files import atomic_path
 from .geometry import quaternion_to_rotation, rotation_to_quaternion
 from .metrics import error_statistics, orientation_errors_deg, position_errors
 from .poses import PosePair, to_quaternions
 
 #: Quaternions whose norm differs from 1 by more than this are refused (not silently fixed).
 UNIT_TOLERANCE = 1e-3
-#: Two lines of one file with the same stamp must agree to this (metres, quaternion units).
-DUPLICATE_TOLERANCE = 1e-9
+#: Below this share of either trajectory's poses matched, ``compare_trajectories`` warns.
+MIN_MATCHED_SHARE = 0.5
+
+
+def format_stamp(stamp: float) -> str:
+    """A stamp at full precision without an exponent (``1311868229.576``, ``12``).
+
+    Parameters
+    ----------
+    stamp : float
+        Seconds, or a frame number.
+
+    Returns
+    -------
+    str
+        The shortest decimal that reads back as the same float.
+    """
+    return np.format_float_positional(float(stamp), trim="-")
 
 
 def write_tum(path: str | os.PathLike, stamps: np.ndarray, poses: np.ndarray) -> Path:
@@ -32,7 +50,7 @@ def write_tum(path: str | os.PathLike, stamps: np.ndarray, poses: np.ndarray) ->
     Parameters
     ----------
     path : str or os.PathLike
-        File to write (parent folders are created).
+        File to write (parent folders are created); written whole or not at all.
     stamps : numpy.ndarray
         Shape (N,), seconds (or frame numbers).
     poses : numpy.ndarray
@@ -44,13 +62,15 @@ def write_tum(path: str | os.PathLike, stamps: np.ndarray, poses: np.ndarray) ->
         ``path``; one line ``stamp tx ty tz qx qy qz qw`` per pose, ``w >= 0``.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     lines = []
     quaternions = Rotation.from_matrix(np.asarray(poses)[:, :3, :3]).as_quat(canonical=True)
     for stamp, pose, (x, y, z, w) in zip(stamps, poses, quaternions, strict=True):
         tx, ty, tz = pose[:3, 3]
-        lines.append(f"{stamp:g} {tx:.6f} {ty:.6f} {tz:.6f} {x:.8f} {y:.8f} {z:.8f} {w:.8f}")
-    path.write_text("\n".join(lines) + "\n")
+        lines.append(
+            f"{format_stamp(stamp)} {tx:.6f} {ty:.6f} {tz:.6f} {x:.8f} {y:.8f} {z:.8f} {w:.8f}"
+        )
+    with atomic_path(path) as temporary:
+        temporary.write_text("\n".join(lines) + "\n")
     return path
 
 
@@ -68,7 +88,9 @@ def _text(path: Path) -> str:
 def read_tum(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Read a TUM trajectory file.
 
-    Comment lines (#) are skipped. Lines repeating a stamp with the same pose are read once.
+    Comment lines (#) are skipped. A stamp given on several lines keeps its first line, as evo
+    reads such files (the ground truth of TUM RGB-D's ``fr2/desk`` repeats one stamp with two
+    slightly different poses); a warning says how many lines were dropped.
 
     Parameters
     ----------
@@ -88,7 +110,7 @@ def read_tum(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarra
     ------
     DataError
         (a ValueError) naming the file (and line) for a folder, a binary file, a malformed line,
-        a non-finite value, a quaternion that is not unit length, or one stamp given two poses.
+        a non-finite value or a quaternion that is not unit length.
     """
     path = Path(path)
     rows = []
@@ -111,14 +133,14 @@ def read_tum(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarra
     table = np.array(rows)
     positions = table[:, 1:4]
     quaternions = to_quaternions(Rotation.from_quat(table[:, 4:]))  # TUM: scalar last
-    stamps, first = np.unique(table[:, 0], return_index=True)
-    if len(stamps) == len(table):
+    _, first = np.unique(table[:, 0], return_index=True)
+    if len(first) == len(table):
         return table[:, 0], positions, quaternions
-    pose_of_first = np.hstack([positions, quaternions])[first]
-    for stamp, pose in zip(table[:, 0], np.hstack([positions, quaternions]), strict=True):
-        if np.abs(pose - pose_of_first[np.searchsorted(stamps, stamp)]).max() > DUPLICATE_TOLERANCE:
-            raise DataError(f"{path}: stamp {stamp:g} is given two different poses")
     keep = np.sort(first)
+    repeated = table[np.setdiff1d(np.arange(len(table)), keep), 0]
+    warnings.warn(f"{path}: {len(table) - len(keep)} line(s) repeat an earlier stamp (first: "
+                  f"{format_stamp(repeated[0])}); the first line of each stamp is kept",
+                  stacklevel=2)  # fmt: skip
     return table[keep, 0], positions[keep], quaternions[keep]
 
 
@@ -210,7 +232,8 @@ def compare_trajectories(
     """Position and orientation errors between two trajectories associated by timestamp.
 
     No registration or scale alignment is done (absolute poses, as camera relocalisation is
-    evaluated).
+    evaluated). A warning says so when fewer than :data:`MIN_MATCHED_SHARE` of either
+    trajectory's poses are matched (the errors then describe only part of it).
 
     Parameters
     ----------
@@ -234,6 +257,11 @@ def compare_trajectories(
     if not pairs:
         raise DataError(f"{estimate}: no timestamp matches {ground_truth} within "
                         f"{max_difference} s")  # fmt: skip
+    for path, count in ((ground_truth, len(stamps_a)), (estimate, len(stamps_b))):
+        if len(pairs) < MIN_MATCHED_SHARE * count:
+            warnings.warn(f"{path}: only {len(pairs)} of its {count} poses are matched within "
+                          f"{max_difference} s (under {MIN_MATCHED_SHARE:.0%}); the errors "
+                          "describe that part only", stacklevel=2)  # fmt: skip
     a, b = np.array(pairs).T
     pair = PosePair(positions_a[a], quaternions_a[a], positions_b[b], quaternions_b[b])
     return {"frames": len(pairs), "position_m": error_statistics(position_errors(pair)),

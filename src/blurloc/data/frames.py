@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DataError
-from ..images import IMAGE_SUFFIXES
+from ..files import image_files
 from .sevenscenes import read_image
 
 
@@ -20,8 +20,8 @@ def list_frames(folder: str | os.PathLike) -> list[Path]:
     Parameters
     ----------
     folder : str or os.PathLike
-        A 7-Scenes sequence folder (its ``frame-*.color.png``) or a folder of images (suffixes
-        of :data:`blurloc.images.IMAGE_SUFFIXES`).
+        A 7-Scenes sequence folder (its ``frame-*.color.png`` only) or a folder of images
+        (:func:`blurloc.files.image_files`).
 
     Returns
     -------
@@ -36,10 +36,7 @@ def list_frames(folder: str | os.PathLike) -> list[Path]:
     folder = Path(folder)
     if not folder.is_dir():
         raise ValueError(f"{folder}: no such folder")
-    paths = sorted(folder.glob("frame-*.color.png"))
-    if not paths:
-        paths = sorted(p for p in folder.iterdir()
-                       if p.is_file() and p.suffix.lower() in IMAGE_SUFFIXES)  # fmt: skip
+    paths = image_files(folder)
     if not paths:
         raise ValueError(f"{folder}: no frames (frame-*.color.png or images) in this folder")
     if len(paths) < 2:

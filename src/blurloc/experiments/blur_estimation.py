@@ -330,8 +330,9 @@ def camera_motion_px(
     after = np.minimum(indices + 1, len(poses) - 1)
     before = np.maximum(indices - 1, 0)
     steps = np.maximum(after - before, 1)
+    depths = np.asarray(distances_m, float)
     moved = [image_motion_px(poses[b], poses[a], camera, image_size, float(d))
-             for b, a, d in zip(before, after, np.asarray(distances_m, float), strict=True)]  # fmt: skip
+             for b, a, d in zip(before, after, depths, strict=True)]  # fmt: skip
     return np.array(moved) / steps
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import asdict, dataclass
+from pathlib import Path
 
 import torch
 import torch.nn.functional as F
@@ -164,14 +165,23 @@ def load_encoder_weights(encoder: ResNetEncoder, path: str | os.PathLike) -> lis
     Raises
     ------
     ValueError
-        If a weight's shape does not fit the encoder (naming the file).
+        Naming the file, when it is missing, not a state dict of tensors, or a weight's shape
+        does not fit the encoder.
 
     References
     ----------
     He, Zhang, Ren and Sun, "Deep residual learning for image recognition", CVPR 2016.
     Deng et al., "ImageNet: a large-scale hierarchical image database", CVPR 2009.
     """
-    state = torch.load(path, map_location="cpu", weights_only=True)
+    if not Path(path).is_file():
+        raise ValueError(f"{path}: encoder weights file is missing")
+    try:
+        state = torch.load(path, map_location="cpu", weights_only=True)
+    except Exception:  # torch raises several types for damaged, foreign or pickled files
+        raise ValueError(f"{path}: not a state dict of tensors (damaged, or it holds other "
+                         "objects)") from None  # fmt: skip
+    if not isinstance(state, dict) or not all(isinstance(v, torch.Tensor) for v in state.values()):
+        raise ValueError(f"{path}: not a state dict of tensors")
     state = {k: v for k, v in state.items() if not k.startswith("fc.")}
     own = encoder.state_dict()
     wrong = [k for k, v in state.items() if k in own and own[k].shape != v.shape]

@@ -21,13 +21,14 @@ from pathlib import Path
 import torch
 
 from ..checkpoints import checkpoint_kind, load_checkpoint
+from ..files import RUN_FILES
 from ..processes import watch_parent
 from ..stored import changes, complete, switches_off
 
 #: Fraction of every training sequence held out (at its end) for validation.
 VALIDATION_FRACTION = 0.15
 #: Files of a run folder that identify the run (both hold the kind and the settings).
-RUN_CHECKPOINTS = ("last.pt", "best.pt")
+RUN_CHECKPOINTS = RUN_FILES[:2]
 
 
 def validation_cut(length: int) -> int:

@@ -210,6 +210,7 @@ def _train(
             "weighting": weighting.state_dict() if weighting else None,
             "torch_rng": torch.get_rng_state(),
         })  # fmt: skip
+        write_history(out_dir, history)  # beside last.pt: kept when interrupted
     bar.close()
     write_history(out_dir, history)
     return history

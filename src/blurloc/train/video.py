@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import os
 import time
+import warnings
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -187,7 +189,8 @@ def train_video_deblur(
     out_dir : str or os.PathLike
         The run folder.
     config : VideoTrainConfig, optional
-        Settings (defaults when None).
+        Settings (defaults when None). A crop larger than the longest side of the training
+        frames is clamped to it, with a warning, and recorded clamped.
     progress : bool
         Show a progress bar.
     restart : bool
@@ -207,7 +210,7 @@ def train_video_deblur(
         If ``out_dir`` holds another model kind, a damaged checkpoint, or a run with other
         settings (without ``restart``); or the device is not available.
     """
-    config = config or VideoTrainConfig()
+    config = _crop_that_runs(config or VideoTrainConfig(), splits["train"])
     out_dir = Path(out_dir)
     device = choose_device(config.device)
     counts = {split: {"sequences": len(splits[split]),
@@ -217,6 +220,18 @@ def train_video_deblur(
     resumed = resume_state(out_dir, "video-deblur", settings, restart, device)
     with fixed_threads(config.threads):
         return _train(splits, out_dir, config, settings, device, resumed, progress, stop_after)
+
+
+def _crop_that_runs(config: VideoTrainConfig, videos: list[Video]) -> VideoTrainConfig:
+    """``config`` with its crop clamped to the longest side of the training frames, warning
+    when it changes: a clip is cut to ``min(crop, side)`` along each side, so the clamped value
+    crops the same clips and is what the checkpoints record."""
+    longest = max((max(blurred.shape[1:3]) for blurred, _ in videos), default=config.crop)
+    if config.crop <= longest:
+        return config
+    warnings.warn(f"--crop {config.crop} is larger than the training frames ({longest} px at "
+                  f"most); {longest} is used and recorded", stacklevel=3)  # fmt: skip
+    return replace(config, crop=longest)
 
 
 def _train(
@@ -274,6 +289,7 @@ def _train(
                 **payload, "optimiser": optimiser.state_dict(), "schedule": schedule.state_dict(),
                 "best": best, "rng": rng.bit_generator.state, "torch_rng": torch.get_rng_state(),
             })  # fmt: skip
+            write_history(out_dir, history)  # beside last.pt: kept when interrupted
             if stop_after is not None and step - first_step >= stop_after:
                 break
     bar.close()
