@@ -19,7 +19,7 @@ from .blur import (
     estimate_noise_sigma,
     length_from_features,
 )
-from .images import check_image, like_input
+from .images import check_image
 
 #: NSR = NSR_COEFFICIENT * sigma ** NSR_EXPONENT (sigma: the image's noise, [0, 1] scale): a
 #: least-squares fit (in log) to the PSNR-best NSR of 192 blurred crops of scikit-image
@@ -33,9 +33,10 @@ def kernel_to_otf(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     """DFT of ``kernel`` zero-padded to ``shape`` with its centre moved to pixel (0, 0), so that
     filtering does not shift the image (MATLAB's psf2otf)."""
     padded = np.zeros(shape, np.float32)
-    padded[: kernel.shape[0], : kernel.shape[1]] = kernel
-    padded = np.roll(padded, (-(kernel.shape[0] // 2), -(kernel.shape[1] // 2)), axis=(0, 1))
-    return scipy.fft.rfft2(padded, workers=-1)
+    rows = (np.arange(kernel.shape[0]) - kernel.shape[0] // 2) % shape[0]
+    columns = (np.arange(kernel.shape[1]) - kernel.shape[1] // 2) % shape[1]
+    padded[np.ix_(rows, columns)] = kernel
+    return scipy.fft.rfft2(padded)
 
 
 def estimate_nsr(image: np.ndarray) -> float:
@@ -93,15 +94,15 @@ def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
     The response is computed once in NumPy's ``rfft2`` layout and packed for OpenCV
     (:func:`ccs_pack`); each channel then goes through ``cv2.dft``, ``cv2.mulSpectrums`` and
     ``cv2.idft`` in single precision (its 1e-7 relative error is far below 8-bit steps; on a
-    640x480 RGB frame OpenCV's transforms take about half of SciPy's). Returns float32 for
-    uint8 input (the caller rounds it), float64 otherwise."""
-    image = check_image(image)
+    640x480 RGB frame OpenCV's transforms take about half of SciPy's). ``image`` must be checked
+    already (:func:`~blurloc.images.check_image`). Returns the input's dtype: uint8 rounded and
+    clipped to 0-255 (the filter works on the 0-255 scale, so no rescaling is needed), float
+    unclipped."""
     kernel = check_kernel(kernel, image.shape)
-    scale = 1.0 / 255.0 if image.dtype == np.uint8 else 1.0
     pad = max(kernel.shape) + 8
     height, width = image.shape[:2]
     shape = (_even_dft_size(height + 2 * pad), _even_dft_size(width + 2 * pad))
-    gain = ccs_pack(response(kernel_to_otf(kernel, shape)) * scale)
+    gain = ccs_pack(response(kernel_to_otf(kernel, shape)))
     padded = cv2.copyMakeBorder(image, pad, shape[0] - height - pad, pad, shape[1] - width - pad,
                                 cv2.BORDER_REFLECT_101)  # fmt: skip
     planes = cv2.split(padded) if image.ndim == 3 else [padded]
@@ -110,8 +111,16 @@ def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
                  flags=cv2.DFT_REAL_OUTPUT | cv2.DFT_SCALE)[pad : pad + height, pad : pad + width]
         for plane in planes
     ]  # fmt: skip
+    if image.dtype == np.uint8:  # zero below 0, then round and saturate at 255
+        restored = [cv2.convertScaleAbs(cv2.threshold(plane, 0.0, 0.0, cv2.THRESH_TOZERO)[1])
+                    for plane in restored]  # fmt: skip
     result = cv2.merge(restored) if image.ndim == 3 else restored[0]
-    return result if image.dtype == np.uint8 else result.astype(np.float64)
+    return result if image.dtype == np.uint8 else result.astype(image.dtype)
+
+
+def _wiener_response(otf: np.ndarray, nsr: float) -> np.ndarray:
+    """conj(C) / (|C|^2 + NSR), the frequency response of eq. 4, in the OTF's precision."""
+    return otf.conj() / (otf.real**2 + otf.imag**2 + np.float32(nsr))
 
 
 def wiener_deconvolve(
@@ -122,12 +131,12 @@ def wiener_deconvolve(
     ``nsr`` is the constant 1/SNR (> 0); by default it is estimated from the image's noise
     (:func:`estimate_nsr`). uint8 in gives uint8 out; float in gives float out (unclipped).
     """
+    image = check_image(image)
     if nsr is None:
         nsr = estimate_nsr(image)
     if not np.isfinite(nsr) or nsr <= 0:
         raise ValueError(f"nsr must be > 0, got {nsr}")
-    restored = _filter(image, kernel, lambda otf: np.conj(otf) / (np.abs(otf) ** 2 + nsr))
-    return like_input(restored, image)
+    return _filter(image, kernel, lambda otf: _wiener_response(otf, nsr))
 
 
 def inverse_filter(image: np.ndarray, kernel: np.ndarray, threshold: float = 1e-3) -> np.ndarray:
@@ -140,7 +149,7 @@ def inverse_filter(image: np.ndarray, kernel: np.ndarray, threshold: float = 1e-
         safe = np.where(np.abs(otf) < threshold, 1.0, otf)
         return np.where(np.abs(otf) < threshold, 0.0, 1.0 / safe)
 
-    return like_input(_filter(image, kernel, response), image)
+    return _filter(check_image(image), kernel, response)
 
 
 def blind_kernel(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> np.ndarray | None:
