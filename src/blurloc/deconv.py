@@ -13,6 +13,8 @@ import scipy.fft
 
 from .blur import (
     BLUR_THRESHOLD,
+    BlurEstimate,
+    BlurFeatures,
     blur_features,
     check_kernel,
     estimate_motion_blur,
@@ -27,6 +29,18 @@ from .images import check_image
 #: variance or on L (fitted exponents -0.10 and -0.06), so they are left out.
 NSR_COEFFICIENT = 0.59
 NSR_EXPONENT = 0.72
+
+#: Blind deblurring restores a frame only when its blur estimate is trusted and its noise is low
+#: (:func:`blind_restoration_expected_to_gain`): the length refined from the spectrum's sinc
+#: zeros (so the coarse length is at least SINC_MIN_PX) with a sinc-fit correlation of at least
+#: GATE_MIN_FIT, a directional fall-off (the features' anisotropy) of at least
+#: GATE_MIN_ANISOTROPY, and a noise sigma ([0, 1] scale) of at most GATE_MAX_NOISE. Chosen by
+#: ``benchmarks/choose_blind_gate.py`` on scikit-image photographs blurred by camera-shake
+#: kernels with noise (the largest mean PSNR change over a grid, the median over restored frames
+#: above 0), and reported there on other photographs and on the stand-in.
+GATE_MIN_FIT = 0.7
+GATE_MIN_ANISOTROPY = 0.5
+GATE_MAX_NOISE = 0.02
 
 
 def kernel_to_otf(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
@@ -152,23 +166,62 @@ def inverse_filter(image: np.ndarray, kernel: np.ndarray, threshold: float = 1e-
     return _filter(check_image(image), kernel, response)
 
 
-def blind_kernel(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> np.ndarray | None:
+def blind_restoration_expected_to_gain(
+    estimate: BlurEstimate, features: BlurFeatures, noise_sigma: float
+) -> bool:
+    """Whether blind Wiener deconvolution of a frame is expected to raise its PSNR, judged from
+    the frame alone: the blur estimate refined from the sinc zeros with a fit of at least
+    GATE_MIN_FIT, the features' anisotropy at least GATE_MIN_ANISOTROPY and the noise sigma at
+    most GATE_MAX_NOISE (see the constants).
+
+    Parameters
+    ----------
+    estimate : BlurEstimate
+        The frame's blur estimate (:func:`~blurloc.blur.estimate_motion_blur`).
+    features : BlurFeatures
+        The frame's features (:func:`~blurloc.blur.blur_features`).
+    noise_sigma : float
+        The frame's noise sigma on the [0, 1] scale (:func:`~blurloc.blur.estimate_noise_sigma`).
+
+    Returns
+    -------
+    bool
+    """
+    return (estimate.fit >= GATE_MIN_FIT and features.anisotropy >= GATE_MIN_ANISOTROPY
+            and noise_sigma <= GATE_MAX_NOISE)  # fmt: skip
+
+
+def blind_kernel(
+    image: np.ndarray, threshold: float = BLUR_THRESHOLD, gated: bool = False
+) -> np.ndarray | None:
     """The kernel blind deblurring uses for ``image``: the linear kernel estimated from the
     spectrum, or None when the detector finds no blur (the coarse length estimate, which is the
-    detector's score, is at most ``threshold`` px). The features are computed once for both."""
+    detector's score, is at most ``threshold`` px) or, with ``gated``, when the restoration is
+    not expected to gain (:func:`blind_restoration_expected_to_gain`). The features are computed
+    once for all three."""
+    image = check_image(image)
     features = blur_features(image)
     if length_from_features(features) <= threshold:
         return None
-    return estimate_motion_blur(image, features=features).kernel()
+    estimate = estimate_motion_blur(image, features=features)
+    if gated and not blind_restoration_expected_to_gain(
+        estimate, features, estimate_noise_sigma(image)
+    ):
+        return None
+    return estimate.kernel()
 
 
 def deblur_blind(
-    image: np.ndarray, nsr: float | None = None, threshold: float = BLUR_THRESHOLD
+    image: np.ndarray,
+    nsr: float | None = None,
+    threshold: float = BLUR_THRESHOLD,
+    gated: bool = True,
 ) -> np.ndarray:
     """Blind deblurring: detect blur (:func:`~blurloc.blur.detect_blur`), estimate its length and
     angle from the spectrum (:func:`~blurloc.blur.estimate_motion_blur`), undo it by Wiener
-    deconvolution (eq. 4). An image judged sharp is returned unchanged (as a copy). Keeps the
-    dtype like :func:`wiener_deconvolve`.
+    deconvolution (eq. 4). An image judged sharp, or (with ``gated``, the default) one whose
+    restoration is not expected to gain (:func:`blind_restoration_expected_to_gain`), is
+    returned unchanged (as a copy). Keeps the dtype like :func:`wiener_deconvolve`.
     """
-    kernel = blind_kernel(image, threshold)
+    kernel = blind_kernel(image, threshold, gated)
     return image.copy() if kernel is None else wiener_deconvolve(image, kernel, nsr)
