@@ -96,3 +96,13 @@ def test_errors_name_the_frame_and_checks_refuse(folder: Path, tmp_path: Path) -
     with pytest.raises(ValueError, match="workers"):
         list(deblur_files(pairs, workers=0))
     assert available_cores() >= 1
+
+
+def test_a_passed_through_frame_is_a_copy_of_its_file(tmp_path: Path) -> None:
+    sharp = cv2.resize(skimage.data.rocket(), (160, 120), interpolation=cv2.INTER_AREA)
+    source = tmp_path / "sharp.png"
+    cv2.imwrite(str(source), sharp[..., ::-1])
+    pairs = [(source, tmp_path / "out.png"), (source, tmp_path / "out.tif")]
+    assert [lost for _, _, lost in deblur_files(pairs, workers=1)] == [[], []]
+    assert (tmp_path / "out.png").read_bytes() == source.read_bytes()
+    np.testing.assert_array_equal(read_rgb(tmp_path / "out.tif"), sharp)  # decoded, re-encoded

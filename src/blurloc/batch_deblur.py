@@ -13,6 +13,7 @@ import functools
 import math
 import multiprocessing
 import os
+import shutil
 import signal
 import sys
 from collections.abc import Callable, Iterator, Sequence
@@ -22,8 +23,8 @@ from pathlib import Path
 import numpy as np
 
 from .blur import check_kernel, motion_kernel
-from .deconv import deblur_blind, wiener_deconvolve
-from .files import read_image_file, write_image_file
+from .deconv import blind_kernel, wiener_deconvolve
+from .files import atomic_path, read_image_file, write_image_file
 from .processes import watch_parent
 
 #: Frames per task sent to a worker at most (fewer when the folder is small, so that every
@@ -64,7 +65,9 @@ def deblur_file(
     path_in, path_out : pathlib.Path
         The image to read and the file to write (see :func:`~blurloc.files.write_image_file`).
     kernel : numpy.ndarray, optional
-        A known blur kernel: Wiener deconvolution (eq. 4) with it.
+        A known blur kernel: Wiener deconvolution (eq. 4) with it. Without ``kernel`` and
+        ``line``, blind deblurring (:func:`~blurloc.deconv.deblur_blind`, gated); a frame it
+        passes through is written as a byte copy of ``path_in`` where both have one suffix.
     line : tuple of float, optional
         (length px, angle degrees) of a known linear blur, used when ``kernel`` is None; the
         kernel is made after ``check`` has accepted the frame.
@@ -91,7 +94,13 @@ def deblur_file(
         kernel = motion_kernel(*line)
     try:
         if kernel is None:
-            restored = deblur_blind(image, nsr)
+            kernel = blind_kernel(image, gated=True)
+            if kernel is None and path_in.suffix.lower() == path_out.suffix.lower():
+                with atomic_path(path_out) as temporary:  # passed through: the same file
+                    shutil.copyfile(path_in, temporary)
+                return []
+        if kernel is None:
+            restored = image
         else:
             restored = wiener_deconvolve(image, check_kernel(kernel, image.shape), nsr)
     except ValueError as error:

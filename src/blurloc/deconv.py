@@ -187,8 +187,12 @@ def blind_restoration_expected_to_gain(
     -------
     bool
     """
-    return (estimate.fit >= GATE_MIN_FIT and features.anisotropy >= GATE_MIN_ANISOTROPY
-            and noise_sigma <= GATE_MAX_NOISE)  # fmt: skip
+    return estimate.fit >= GATE_MIN_FIT and _trusted_frame(features, noise_sigma)
+
+
+def _trusted_frame(features: BlurFeatures, noise_sigma: float) -> bool:
+    """The part of :func:`blind_restoration_expected_to_gain` known before the estimate."""
+    return features.anisotropy >= GATE_MIN_ANISOTROPY and noise_sigma <= GATE_MAX_NOISE
 
 
 def blind_kernel(
@@ -203,10 +207,13 @@ def blind_kernel(
     features = blur_features(image)
     if length_from_features(features) <= threshold:
         return None
+    if not gated:
+        return estimate_motion_blur(image, features=features).kernel()
+    noise_sigma = estimate_noise_sigma(image)
+    if not _trusted_frame(features, noise_sigma):  # no need to refine the estimate
+        return None
     estimate = estimate_motion_blur(image, features=features)
-    if gated and not blind_restoration_expected_to_gain(
-        estimate, features, estimate_noise_sigma(image)
-    ):
+    if not blind_restoration_expected_to_gain(estimate, features, noise_sigma):
         return None
     return estimate.kernel()
 
