@@ -1,6 +1,6 @@
 """Choose the gate of blind Wiener deblurring on one set of frames, report it on others.
 
-    python benchmarks/choose_blind_gate.py --standin /tmp/standin-quick [--out figures]
+    python benchmarks/choose_blind_gate.py --standin /tmp/standin-quick [ROOT ...] [--out figures]
 
 Blind deblurring (:func:`blurloc.deconv.deblur_blind`) passes a frame through unchanged where
 its restoration is not expected to gain (:func:`blurloc.deconv.blind_restoration_expected_to_gain`:
@@ -14,8 +14,8 @@ every frame of three sets, the gate's inputs and the PSNR change that blind Wien
   160x120) with Gaussian noise σ 0.002, 0.01 and 0.02, rounded to 8 bits;
 - held-out photographs: other bundled photographs (coins, moon, page, retina, gravel, brick,
   text) the same way with another seed, half with line kernels instead of shake kernels;
-- the stand-in: every ``*.color.png`` under ``--standin`` with its ``*.sharp.png``
-  (``blurloc synth --quick --out DIR`` makes one).
+- the stand-in: every ``*.color.png`` under each ``--standin`` root with its ``*.sharp.png``
+  (``blurloc synth --quick --out DIR`` makes one; ``--width 640 --height 480`` a full-size one).
 
 It picks the thresholds on the fit set alone (a grid; the largest mean change over all frames,
 counting passed-through frames as 0 dB, among rules whose median change over restored frames is
@@ -142,12 +142,12 @@ def choose(rows: list[dict]) -> tuple[float, float, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--standin", type=Path, required=True)
+    parser.add_argument("--standin", type=Path, nargs="+", required=True)
     parser.add_argument("--out", default="figures")
     args = parser.parse_args()
     sets = {"fit: photographs, shake kernels": photo_set(FIT_PHOTOS, 1, lines=False),
             "held-out photographs, shake and line kernels": photo_set(HELD_OUT_PHOTOS, 2, True),
-            f"stand-in ({args.standin})": standin_set(args.standin)}  # fmt: skip
+            **{f"stand-in ({root})": standin_set(root) for root in args.standin}}  # fmt: skip
     chosen = choose(next(iter(sets.values())))
     shipped = (GATE_MIN_FIT, GATE_MIN_ANISOTROPY, GATE_MAX_NOISE)
     print(f"chosen on the fit set: fit >= {chosen[0]}, anisotropy >= {chosen[1]}, noise <= "
