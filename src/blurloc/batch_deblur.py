@@ -2,7 +2,8 @@
 
 Each frame is read, deblurred (blind, or with one given kernel) and written by a worker of a
 process pool sized to the cores of :func:`os.sched_getaffinity`; frames go out in chunks and the
-results come back in the order of the input. A worker runs OpenCV on one thread (the pool
+results come back in the order of the input. While the workers start, the calling process
+deblurs the first chunk itself. A worker runs OpenCV on one thread (the pool
 supplies the parallelism), ignores Ctrl-C (the caller's process handles it) and ends with the
 process that made the pool.
 """
@@ -17,7 +18,7 @@ import shutil
 import signal
 import sys
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -173,8 +174,14 @@ def deblur_files(
         context.set_forkserver_preload([__name__])
     pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
                                initargs=(os.getpid(),))  # fmt: skip
-    try:
-        for pair, lost in zip(pairs, pool.map(task, pairs, chunksize=chunk), strict=True):
+    starter = ThreadPoolExecutor(1)  # starting the workers takes about a second: meanwhile,
+    try:  # this process deblurs the first chunk
+        head = chunk
+        pooled = starter.submit(pool.map, task, pairs[head:], chunksize=chunk)
+        for pair in pairs[:head]:
+            yield (*pair, task(pair))
+        for pair, lost in zip(pairs[head:], pooled.result(), strict=True):
             yield (*pair, lost)
     finally:
+        starter.shutdown(wait=True)
         pool.shutdown(wait=True, cancel_futures=True)
