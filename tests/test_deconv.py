@@ -2,15 +2,29 @@
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 import pytest
 import skimage.data
 from skimage.metrics import peak_signal_noise_ratio, structural_similarity
 
-from blurloc.blur import blur_image, motion_kernel, to_gray, trajectory_kernel
+from blurloc.blur import (
+    BlurEstimate,
+    BlurFeatures,
+    blur_image,
+    motion_kernel,
+    shake_path,
+    to_gray,
+    trajectory_kernel,
+)
 from blurloc.deconv import (
+    GATE_MAX_NOISE,
+    GATE_MIN_ANISOTROPY,
+    GATE_MIN_FIT,
     _even_dft_size,
+    blind_restoration_expected_to_gain,
     ccs_pack,
+    deblur_blind,
     estimate_noise_sigma,
     inverse_filter,
     kernel_to_otf,
@@ -324,3 +338,50 @@ def test_inversion_is_exact_under_the_periodic_model_even_with_spectral_zeros() 
     assert psnr(photo, restored, 1.0) > 100
     camera_like = inverse_filter(blur_image(photo, kernel, 0.0), kernel)
     assert psnr(photo[24:-24, 24:-24], np.clip(camera_like, 0, 1)[24:-24, 24:-24], 1.0) < 20
+
+
+# ---- blind deblurring's gate -------------------------------------------------------------
+
+
+def _photo(name: str, size: tuple[int, int]) -> np.ndarray:
+    """A bundled RGB photograph resized (area-averaged) to ``size`` (width, height), uint8."""
+    return cv2.resize(getattr(skimage.data, name)(), size, interpolation=cv2.INTER_AREA)
+
+
+def _uint8(image: np.ndarray) -> np.ndarray:
+    return np.round(np.clip(image, 0, 1) * 255).astype(np.uint8)
+
+
+def test_gate_passes_a_sharp_frame_through_untouched() -> None:
+    sharp = _photo("rocket", (160, 120))  # the detector calls it blurred: only the gate stops it
+    assert (deblur_blind(sharp, gated=False) != sharp).any()
+    passed = deblur_blind(sharp)
+    np.testing.assert_array_equal(passed, sharp)
+    assert passed is not sharp
+
+
+def test_gate_restores_a_strongly_line_blurred_noise_free_frame() -> None:
+    sharp = _photo("coffee", (320, 240))
+    blurred = _uint8(blur_image(sharp, motion_kernel(15, 30)))
+    restored = deblur_blind(blurred)
+    assert psnr(sharp, restored, 255.0) - psnr(sharp, blurred, 255.0) > 2.0
+
+
+def test_gate_passes_a_noisy_shaken_frame_that_restoration_would_harm() -> None:
+    sharp = _photo("astronaut", (320, 240))
+    rng = np.random.default_rng(0)
+    blurred = _uint8(blur_image(sharp, trajectory_kernel(shake_path(10, rng)), 0.03, rng=rng))
+    ungated = deblur_blind(blurred, gated=False)
+    assert psnr(sharp, ungated, 255.0) < psnr(sharp, blurred, 255.0)  # it would lose
+    np.testing.assert_array_equal(deblur_blind(blurred), blurred)
+
+
+def test_gate_thresholds() -> None:
+    features = BlurFeatures(np.zeros(63), 0.0, anisotropy=GATE_MIN_ANISOTROPY, scale=1.0)
+    trusted = BlurEstimate(length_px=12.0, angle_deg=0.0, fit=GATE_MIN_FIT)
+    assert blind_restoration_expected_to_gain(trusted, features, GATE_MAX_NOISE)
+    assert not blind_restoration_expected_to_gain(trusted, features, GATE_MAX_NOISE * 1.01)
+    unrefined = BlurEstimate(length_px=12.0, angle_deg=0.0, fit=0.0)
+    assert not blind_restoration_expected_to_gain(unrefined, features, 0.0)
+    isotropic = BlurFeatures(np.zeros(63), 0.0, anisotropy=0.9 * GATE_MIN_ANISOTROPY, scale=1.0)
+    assert not blind_restoration_expected_to_gain(trusted, isotropic, 0.0)

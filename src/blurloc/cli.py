@@ -165,12 +165,21 @@ def _check_length(length: float, shape: tuple[int, ...], path: Path) -> None:
                          "inside the image)")  # fmt: skip
 
 
+def _check_kernel_fits(name: str, kernel, shape: tuple[int, ...], path: Path) -> None:
+    """Refuse a kernel file whose kernel is larger than the image."""
+    from .blur import check_kernel
+
+    try:
+        check_kernel(kernel, shape)
+    except ValueError as error:
+        raise ValueError(f"{name}: {error} of {path}") from error
+
+
 def _deblur(args: argparse.Namespace) -> int:
     import math
+    from functools import partial
 
-    from .blur import check_kernel, motion_kernel
-    from .deconv import deblur_blind, wiener_deconvolve
-    from .files import read_image_file, write_image_file
+    from .batch_deblur import deblur_files
 
     source, target = Path(args.input), Path(args.output)
     if (args.length is None) != (args.angle is None):
@@ -197,22 +206,11 @@ def _deblur(args: argparse.Namespace) -> int:
         raise ValueError(f"{source}: no such file or folder")
     check_output(target, source, args.kernel, names=names, overwrite=args.overwrite)
     kernel = _load_kernel(Path(args.kernel)) if args.kernel else None
-    for path_in, path_out in pairs:
-        image, alpha = read_image_file(path_in)
-        if args.length is not None:
-            _check_length(args.length, image.shape, path_in)
-            kernel = motion_kernel(args.length, args.angle) if kernel is None else kernel
-        elif kernel is not None:
-            try:
-                check_kernel(kernel, image.shape)
-            except ValueError as error:
-                raise ValueError(f"{args.kernel}: {error} of {path_in}") from error
-        try:
-            restored = (deblur_blind(image, args.nsr) if kernel is None
-                        else wiener_deconvolve(image, kernel, args.nsr))  # fmt: skip
-        except ValueError as error:
-            raise ValueError(f"{path_in}: {error}") from error
-        lost = write_image_file(path_out, restored, alpha)
+    line = None if args.length is None else (args.length, args.angle)
+    check = (partial(_check_length, args.length) if line is not None
+             else partial(_check_kernel_fits, args.kernel, kernel) if kernel is not None
+             else None)  # fmt: skip
+    for path_in, path_out, lost in deblur_files(pairs, kernel, line, args.nsr, check):
         if lost:
             print(f"warning: {path_out}: {path_out.suffix} stores 8-bit colour only; the "
                   f"{' and '.join(lost)} of {path_in} is not kept (write .png or .tif to keep "

@@ -13,13 +13,15 @@ import scipy.fft
 
 from .blur import (
     BLUR_THRESHOLD,
+    BlurEstimate,
+    BlurFeatures,
     blur_features,
     check_kernel,
     estimate_motion_blur,
     estimate_noise_sigma,
     length_from_features,
 )
-from .images import check_image, like_input
+from .images import check_image
 
 #: NSR = NSR_COEFFICIENT * sigma ** NSR_EXPONENT (sigma: the image's noise, [0, 1] scale): a
 #: least-squares fit (in log) to the PSNR-best NSR of 192 blurred crops of scikit-image
@@ -27,6 +29,18 @@ from .images import check_image, like_input
 #: variance or on L (fitted exponents -0.10 and -0.06), so they are left out.
 NSR_COEFFICIENT = 0.59
 NSR_EXPONENT = 0.72
+
+#: Blind deblurring restores a frame only when its blur estimate is trusted and its noise is low
+#: (:func:`blind_restoration_expected_to_gain`): the length refined from the spectrum's sinc
+#: zeros (so the coarse length is at least SINC_MIN_PX) with a sinc-fit correlation of at least
+#: GATE_MIN_FIT, a directional fall-off (the features' anisotropy) of at least
+#: GATE_MIN_ANISOTROPY, and a noise sigma ([0, 1] scale) of at most GATE_MAX_NOISE. Chosen by
+#: ``benchmarks/choose_blind_gate.py`` on scikit-image photographs blurred by camera-shake
+#: kernels with noise (the largest mean PSNR change over a grid, the median over restored frames
+#: above 0), and reported there on other photographs and on the stand-in.
+GATE_MIN_FIT = 0.7
+GATE_MIN_ANISOTROPY = 0.5
+GATE_MAX_NOISE = 0.02
 
 
 def kernel_to_otf(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
@@ -58,9 +72,10 @@ def kernel_to_otf(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     (inverse and minimum mean square error filtering).
     """
     padded = np.zeros(shape, np.float32)
-    padded[: kernel.shape[0], : kernel.shape[1]] = kernel
-    padded = np.roll(padded, (-(kernel.shape[0] // 2), -(kernel.shape[1] // 2)), axis=(0, 1))
-    return scipy.fft.rfft2(padded, workers=-1)
+    rows = (np.arange(kernel.shape[0]) - kernel.shape[0] // 2) % shape[0]
+    columns = (np.arange(kernel.shape[1]) - kernel.shape[1] // 2) % shape[1]
+    padded[np.ix_(rows, columns)] = kernel
+    return scipy.fft.rfft2(padded)
 
 
 def estimate_nsr(image: np.ndarray) -> float:
@@ -148,15 +163,15 @@ def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
     The response is computed once in NumPy's ``rfft2`` layout and packed for OpenCV
     (:func:`ccs_pack`); each channel then goes through ``cv2.dft``, ``cv2.mulSpectrums`` and
     ``cv2.idft`` in single precision (its 1e-7 relative error is far below 8-bit steps; on a
-    640x480 RGB frame OpenCV's transforms take about half of SciPy's). Returns float32 for
-    uint8 input (the caller rounds it), float64 otherwise."""
-    image = check_image(image)
+    640x480 RGB frame OpenCV's transforms take about half of SciPy's). ``image`` must be checked
+    already (:func:`~blurloc.images.check_image`). Returns the input's dtype: uint8 rounded and
+    clipped to 0-255 (the filter works on the 0-255 scale, so no rescaling is needed), float
+    unclipped."""
     kernel = check_kernel(kernel, image.shape)
-    scale = 1.0 / 255.0 if image.dtype == np.uint8 else 1.0
     pad = max(kernel.shape) + 8
     height, width = image.shape[:2]
     shape = (_even_dft_size(height + 2 * pad), _even_dft_size(width + 2 * pad))
-    gain = ccs_pack(response(kernel_to_otf(kernel, shape)) * scale)
+    gain = ccs_pack(response(kernel_to_otf(kernel, shape)))
     padded = cv2.copyMakeBorder(image, pad, shape[0] - height - pad, pad, shape[1] - width - pad,
                                 cv2.BORDER_REFLECT_101)  # fmt: skip
     planes = cv2.split(padded) if image.ndim == 3 else [padded]
@@ -165,8 +180,16 @@ def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
                  flags=cv2.DFT_REAL_OUTPUT | cv2.DFT_SCALE)[pad : pad + height, pad : pad + width]
         for plane in planes
     ]  # fmt: skip
+    if image.dtype == np.uint8:  # zero below 0, then round and saturate at 255
+        restored = [cv2.convertScaleAbs(cv2.threshold(plane, 0.0, 0.0, cv2.THRESH_TOZERO)[1])
+                    for plane in restored]  # fmt: skip
     result = cv2.merge(restored) if image.ndim == 3 else restored[0]
-    return result if image.dtype == np.uint8 else result.astype(np.float64)
+    return result if image.dtype == np.uint8 else result.astype(image.dtype)
+
+
+def _wiener_response(otf: np.ndarray, nsr: float) -> np.ndarray:
+    """conj(C) / (|C|^2 + NSR), the frequency response of eq. 4, in the OTF's precision."""
+    return otf.conj() / (otf.real**2 + otf.imag**2 + np.float32(nsr))
 
 
 def wiener_deconvolve(
@@ -210,12 +233,12 @@ def wiener_deconvolve(
     1949. Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Sections 5.7-5.8
     (inverse and minimum mean square error filtering). The paper's eq. 4.
     """
+    image = check_image(image)
     if nsr is None:
         nsr = estimate_nsr(image)
     if not np.isfinite(nsr) or nsr <= 0:
         raise ValueError(f"nsr must be > 0, got {nsr}")
-    restored = _filter(image, kernel, lambda otf: np.conj(otf) / (np.abs(otf) ** 2 + nsr))
-    return like_input(restored, image)
+    return _filter(image, kernel, lambda otf: _wiener_response(otf, nsr))
 
 
 def inverse_filter(image: np.ndarray, kernel: np.ndarray, threshold: float = 1e-3) -> np.ndarray:
@@ -261,16 +284,54 @@ def inverse_filter(image: np.ndarray, kernel: np.ndarray, threshold: float = 1e-
         safe = np.where(np.abs(otf) < threshold, 1.0, otf)
         return np.where(np.abs(otf) < threshold, 0.0, 1.0 / safe)
 
-    return like_input(_filter(image, kernel, response), image)
+    return _filter(check_image(image), kernel, response)
 
 
-def blind_kernel(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> np.ndarray | None:
+def blind_restoration_expected_to_gain(
+    estimate: BlurEstimate, features: BlurFeatures, noise_sigma: float
+) -> bool:
+    """Whether blind Wiener deconvolution of a frame is expected to raise its PSNR, judged from
+    the frame alone: the blur estimate refined from the sinc zeros with a fit of at least
+    GATE_MIN_FIT, the features' anisotropy at least GATE_MIN_ANISOTROPY and the noise sigma at
+    most GATE_MAX_NOISE (see the constants).
+
+    Parameters
+    ----------
+    estimate : BlurEstimate
+        The frame's blur estimate (:func:`~blurloc.blur.estimate_motion_blur`).
+    features : BlurFeatures
+        The frame's features (:func:`~blurloc.blur.blur_features`).
+    noise_sigma : float
+        The frame's noise sigma on the [0, 1] scale (:func:`~blurloc.blur.estimate_noise_sigma`).
+
+    Returns
+    -------
+    bool
+
+    References
+    ----------
+    Oliveira, Figueiredo and Bioucas-Dias, "Blind estimation of motion blur parameters for image
+    deconvolution", IbPRIA 2007 (a linear blur shows as clear sinc zeros in the spectrum).
+    Immerkær, "Fast noise variance estimation", CVIU 1996.
+    """
+    return estimate.fit >= GATE_MIN_FIT and _trusted_frame(features, noise_sigma)
+
+
+def _trusted_frame(features: BlurFeatures, noise_sigma: float) -> bool:
+    """The part of :func:`blind_restoration_expected_to_gain` known before the estimate."""
+    return features.anisotropy >= GATE_MIN_ANISOTROPY and noise_sigma <= GATE_MAX_NOISE
+
+
+def blind_kernel(
+    image: np.ndarray, threshold: float = BLUR_THRESHOLD, gated: bool = False
+) -> np.ndarray | None:
     """The kernel that blind deblurring uses for an image, or None when no blur is detected.
 
     The image is judged blurred when its coarse length estimate (the detector's score,
     :func:`~blurloc.blur.blur_score`) exceeds ``threshold``; then the linear kernel of
-    :func:`~blurloc.blur.estimate_motion_blur` is returned. The features are computed once for
-    both steps.
+    :func:`~blurloc.blur.estimate_motion_blur` is returned, unless ``gated`` and the restoration
+    is not expected to gain (:func:`blind_restoration_expected_to_gain`). The features are
+    computed once for all steps.
 
     Parameters
     ----------
@@ -278,24 +339,38 @@ def blind_kernel(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> np.nda
         (H, W) or (H, W, 3) image, uint8 or float in [0, 1]; short side >= 16 px.
     threshold : float
         Blur length (px) above which the image counts as blurred.
+    gated : bool
+        Return None also where the restoration is not expected to gain.
 
     Returns
     -------
     numpy.ndarray or None
-        The estimated PSF c of eq. 1, or None for an image judged sharp.
+        The estimated PSF c of eq. 1, or None for an image judged sharp (or passed through).
 
     References
     ----------
     The paper's Section III.A.1 (estimate the blur, then eq. 4).
     """
+    image = check_image(image)
     features = blur_features(image)
     if length_from_features(features) <= threshold:
         return None
-    return estimate_motion_blur(image, features=features).kernel()
+    if not gated:
+        return estimate_motion_blur(image, features=features).kernel()
+    noise_sigma = estimate_noise_sigma(image)
+    if not _trusted_frame(features, noise_sigma):  # no need to refine the estimate
+        return None
+    estimate = estimate_motion_blur(image, features=features)
+    if not blind_restoration_expected_to_gain(estimate, features, noise_sigma):
+        return None
+    return estimate.kernel()
 
 
 def deblur_blind(
-    image: np.ndarray, nsr: float | None = None, threshold: float = BLUR_THRESHOLD
+    image: np.ndarray,
+    nsr: float | None = None,
+    threshold: float = BLUR_THRESHOLD,
+    gated: bool = True,
 ) -> np.ndarray:
     r"""Blind deblurring of one image: detect the blur, estimate it, undo it by eq. 4.
 
@@ -307,7 +382,9 @@ def deblur_blind(
         \tilde{x} = F^{-1}\left\{ \frac{\overline{F\{\hat{c}\}}}{|F\{\hat{c}\}|^2 + \mathrm{NSR}}
         \, F\{b\} \right\}
 
-    An image judged sharp is returned unchanged (as a copy).
+    An image judged sharp, or (with ``gated``, the default) one whose restoration is not
+    expected to gain (:func:`blind_restoration_expected_to_gain`), is returned unchanged (as a
+    copy).
 
     Parameters
     ----------
@@ -317,6 +394,8 @@ def deblur_blind(
         The constant 1/SNR (> 0); default :func:`estimate_nsr` of the image.
     threshold : float
         Blur length (px) above which the image counts as blurred.
+    gated : bool
+        Pass through a frame whose restoration is not expected to gain.
 
     Returns
     -------
@@ -329,5 +408,5 @@ def deblur_blind(
     Wiener 1949; Gonzalez and Woods 2018 (see :func:`wiener_deconvolve`). The paper's Section
     III.A.1 and eq. 4.
     """
-    kernel = blind_kernel(image, threshold)
+    kernel = blind_kernel(image, threshold, gated)
     return image.copy() if kernel is None else wiener_deconvolve(image, kernel, nsr)

@@ -1,0 +1,170 @@
+"""Folder deblurring speed: ms per 640x480 RGB frame, reading and writing included.
+
+    python benchmarks/bench_deblur_folder.py [--frames 120] [--folder DIR] [--workers N]
+                                             [--out figures]
+
+Makes ``--frames`` 640x480 RGB PNG frames from scikit-image's bundled photographs, each blurred
+by a known line kernel (5-25 px, a different angle per frame) with noise σ = 2/255, in a
+temporary folder (or, with ``--folder``, takes the ``*.color.png`` frames of DIR, e.g. a
+7-Scenes or stand-in sequence; scikit-image is then given a 9 px horizontal line, for its
+time only). Then times, on the same frames and in one run (wall clock from the first read
+to the last written file, divided by the number of frames):
+
+- the package's folder deblurring (:func:`blurloc.batch_deblur.deblur_files`) blind, with a
+  process pool of ``--workers`` (default: every available core; pool start included), and in
+  this process alone (1 worker);
+- the package's Wiener filter given the true kernel (eq. 4, NSR estimated from the noise), in
+  this process;
+- scikit-image's ``skimage.restoration.wiener`` given the true kernel (balance 0.01, per
+  channel on [0, 1] floats), with the same OpenCV reading and PNG writing, in this process.
+
+Blind deblurring passes frames through where restoring them is not expected to gain (the gate
+of :func:`blurloc.deconv.blind_restoration_expected_to_gain`), and a passed-through frame costs
+less than a restored one; the table says how many of the frames were restored. Writes
+``<out>/bench_deblur_folder.md`` and ``.csv`` with the command, the date, the cores and
+the load average before and after: on a machine shared with other work the wall-clock times are
+noisy, so read them with the load average and with the CPU time of the one-process runs (the
+work per frame; a pool of N idle cores needs about that divided by N).
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import os
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from blurloc.batch_deblur import available_cores, deblur_file, deblur_files
+from blurloc.blur import blur_image, motion_kernel
+from blurloc.config import write_rows
+from blurloc.files import atomic_path
+
+PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "immunohistochemistry", "hubble_deep_field")
+TARGET_MS = 30.0
+
+
+def make_frames(folder: Path, count: int, seed: int = 0) -> list[tuple[Path, float, float]]:
+    """Write ``count`` blurred 640x480 RGB PNG frames; returns (path, length px, angle deg)."""
+    import skimage.data  # here: the pool's workers import this script, and need no scikit-image
+
+    rng = np.random.default_rng(seed)
+    photos = [cv2.resize(getattr(skimage.data, name)()[..., :3], (640, 480),
+                         interpolation=cv2.INTER_AREA) for name in PHOTOS]  # fmt: skip
+    frames = []
+    for index in range(count):
+        length, angle = 5.0 + 4.0 * (index % 6), float((index * 37) % 180)
+        blurred = blur_image(photos[index % len(photos)], motion_kernel(length, angle),
+                             2.0 / 255.0, rng=rng)  # fmt: skip
+        path = folder / f"frame-{index:06d}.color.png"
+        cv2.imwrite(str(path), np.round(np.clip(blurred, 0, 1) * 255).astype(np.uint8)[..., ::-1])
+        frames.append((path, length, angle))
+    return frames
+
+
+def skimage_wiener_file(path_in: Path, path_out: Path, kernel: np.ndarray) -> None:
+    """Read, deblur with scikit-image's ``wiener`` per channel, write (the comparison)."""
+    from skimage.restoration import wiener
+
+    image = cv2.imread(str(path_in))[..., ::-1].astype(np.float64) / 255.0
+    restored = np.stack([wiener(image[..., c], kernel, balance=0.01, clip=True)
+                         for c in range(3)], axis=-1)  # fmt: skip
+    cv2.imwrite(str(path_out), np.round(restored * 255).astype(np.uint8)[..., ::-1])
+
+
+def ms_per_frame(run: Callable[[], int]) -> tuple[float, float]:
+    """Wall time and this process's CPU time of ``run`` (which returns how many frames it did),
+    in ms per frame."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    frames = run()
+    return ((time.perf_counter() - wall) / frames * 1000.0,
+            (time.process_time() - cpu) / frames * 1000.0)  # fmt: skip
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--frames", type=int, default=120)
+    parser.add_argument("--folder", type=Path, help="time these *.color.png frames instead")
+    parser.add_argument("--workers", type=int, default=available_cores())
+    parser.add_argument("--out", default="figures")
+    args = parser.parse_args()
+    load_before = os.getloadavg()
+    with tempfile.TemporaryDirectory() as scratch:
+        source, target = Path(scratch, "in"), Path(scratch, "out")
+        source.mkdir()
+        target.mkdir()
+        if args.folder:
+            paths = sorted(args.folder.glob("*.color.png"))[: args.frames]
+            if not paths:
+                raise SystemExit(f"{args.folder}: no *.color.png frames")
+            frames = [(path, 9.0, 0.0) for path in paths]
+        else:
+            frames = make_frames(source, args.frames)
+        pairs = [(path, target / path.name) for path, _, _ in frames]
+        kernels = [motion_kernel(length, angle) for _, length, angle in frames]
+        runs = {
+            f"package, blind, pool of {args.workers}":
+                lambda: sum(1 for _ in deblur_files(pairs, workers=args.workers)),
+            "package, blind, 1 process":
+                lambda: sum(1 for _ in deblur_files(pairs, workers=1)),
+            "package, true kernel, 1 process":
+                lambda: sum(1 for pair, k in zip(pairs, kernels, strict=True)
+                            if deblur_file(*pair, kernel=k) is not None),
+            "scikit-image wiener, true kernel, 1 process":
+                lambda: sum(1 for pair, k in zip(pairs, kernels, strict=True)
+                            if skimage_wiener_file(*pair, k) is None),
+        }  # fmt: skip
+        rows = []
+        for name, run in runs.items():
+            wall, cpu = ms_per_frame(run)
+            in_pool = "pool" in name  # the workers' CPU time is not this process's
+            rows.append({"method": name, "ms_per_frame": round(wall, 1),
+                         "cpu_ms_per_frame": "" if in_pool else round(cpu, 1)})  # fmt: skip
+            if name.startswith("package, blind, pool"):  # a passed-through frame is a copy
+                restored = sum(a.read_bytes() != b.read_bytes() for a, b in pairs)
+    load_after = os.getloadavg()
+    for row in rows:
+        print(
+            f"{row['method']:<46} {row['ms_per_frame']:7.1f} ms/frame (CPU "
+            f"{row['cpu_ms_per_frame'] or 'n/a'})"
+        )
+    command = "python " + " ".join([Path(sys.argv[0]).as_posix(), *sys.argv[1:]])
+    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    source_name = args.folder or "line-blurred photographs"
+    context = (f"{len(frames)} frames ({source_name}), {restored} restored by blind deblurring, "
+               f"{available_cores()} cores available, "
+               f"load average {load_before[0]:.2f} before, {load_after[0]:.2f} after")  # fmt: skip
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_rows([{**row, "frames": len(frames), "restored": restored, "cores": available_cores(),
+                 "load_before": round(load_before[0], 2), "load_after": round(load_after[0], 2),
+                 "date": date, "command": command} for row in rows],
+               out / "bench_deblur_folder.csv")  # fmt: skip
+    lines = [
+        "# Folder deblurring: ms per 640x480 RGB frame, reading and writing included",
+        "",
+        f"Command: `{command}` ({date}). {context}. Target: <= {TARGET_MS:g} ms per frame for "
+        "the package's folder deblurring. Wall-clock times on a shared machine are noisy: read "
+        "them with the load average.",
+        "",
+        "| method | ms per frame (wall) | CPU ms per frame (this process) |",
+        "| --- | ---: | ---: |",
+        *(
+            f"| {row['method']} | {row['ms_per_frame']:.1f} | {row['cpu_ms_per_frame'] or 'n/a'} |"
+            for row in rows
+        ),
+        "",
+    ]
+    with atomic_path(out / "bench_deblur_folder.md") as temporary:
+        temporary.write_text("\n".join(lines))
+    print(f"wrote {out / 'bench_deblur_folder.md'} and .csv ({context})")
+
+
+if __name__ == "__main__":
+    main()
