@@ -14,10 +14,12 @@ Measures, with the package's current API and defaults:
   before and after, on the real blurred/sharp pairs;
 - the TUM reader of ``pose-error`` (:func:`blurloc.trajectory.read_tum`) on the real TUM files.
 
-The camera's image motion of a frame is the mean displacement of a 16x12 grid of pixels, placed
-at the frame's median depth, between the poses of the frames before and after it, halved: px per
-frame interval. The motion during the exposure is that times exposure / frame interval; the
-Kinect's exposure is not recorded, and a constant factor leaves rank correlations unchanged.
+The camera's image motion of a frame is
+:func:`~blurloc.experiments.blur_estimation.camera_motion_px`: the mean displacement of a grid
+of pixels, placed at the frame's median depth, between the poses of the frames before and after
+it, halved: px per frame interval. The motion during the exposure is that times exposure / frame
+interval; the Kinect's exposure is not recorded, and a constant factor leaves rank correlations
+unchanged.
 Lens distortion is ignored. Writes ``OUT.md`` and ``OUT.csv`` (one row per measure).
 """
 
@@ -46,52 +48,16 @@ from blurloc.data.real import (
     verify,
 )
 from blurloc.deconv import deblur_blind
-from blurloc.experiments.blur_estimation import TRAINING_PHOTOS, variance_of_laplacian
-from blurloc.geometry import backproject, project
+from blurloc.experiments.blur_estimation import (
+    TRAINING_PHOTOS,
+    camera_motion_px,
+    variance_of_laplacian,
+)
 from blurloc.metrics import psnr
 from blurloc.trajectory import read_tum
 
-GRID = (16, 12)
 #: File stems of scikit-image photographs whose ``skimage.data`` function has another name.
 SKIMAGE_NAMES = {"ihc": "immunohistochemistry", "motorcycle_left": "stereo_motorcycle"}
-
-
-def image_motion_px(poses: np.ndarray, depths_m: np.ndarray, camera: np.ndarray) -> np.ndarray:
-    """Mean image displacement per frame interval of a grid of pixels at each frame's depth.
-
-    .. math::
-
-        m_i = \\frac{1}{2G} \\sum_{g}
-              \\lVert \\pi(T_{i+1}^{-1} T_{i-1}\\, \\pi^{-1}(u_g, d_i)) - u_g \\rVert
-
-    with :math:`\\pi` the pinhole projection, :math:`T` camera-to-world poses, :math:`d_i` the
-    frame's median depth and :math:`G` grid points (one-sided, not halved, at the ends).
-
-    Parameters
-    ----------
-    poses : numpy.ndarray
-        (N, 4, 4) camera-to-world poses of consecutive frames, metres.
-    depths_m : numpy.ndarray
-        (N,) scene depth of each frame, metres.
-    camera : numpy.ndarray
-        (3, 3) camera matrix, pixels.
-
-    Returns
-    -------
-    numpy.ndarray
-        (N,) px per frame interval.
-    """
-    width, height = 2 * camera[0, 2], 2 * camera[1, 2]
-    u, v = np.meshgrid(np.linspace(0, width, GRID[0] + 2)[1:-1],
-                       np.linspace(0, height, GRID[1] + 2)[1:-1])  # fmt: skip
-    grid = np.column_stack([u.ravel(), v.ravel()])
-    motion = np.empty(len(poses))
-    for i in range(len(poses)):
-        before, after = max(i - 1, 0), min(i + 1, len(poses) - 1)
-        points = backproject(grid, np.full(len(grid), depths_m[i]), poses[before], camera)
-        moved = project(points, poses[after], camera)[:, :2]
-        motion[i] = np.linalg.norm(moved - grid, axis=1).mean() / (after - before)
-    return motion
 
 
 def detection_rows(rows: list[dict]) -> list[str]:
@@ -125,7 +91,8 @@ def motion_rows(rows: list[dict]) -> None:
     poses = np.concatenate([s.poses() for s in sequences])
     images = np.concatenate([s.images() for s in sequences])
     depths = np.array([float(row["depth_median_m"]) for row in posed_frame_table()])
-    motion = image_motion_px(poses, depths, posed_camera())
+    frame_size = (images.shape[2], images.shape[1])
+    motion = camera_motion_px(poses, depths, posed_camera(), frame_size)
     rows.append({"stage": "camera motion", "data": "real TUM fr1_rpy frames", "n": len(motion),
                  "measure": "image motion per frame interval, px (median; 5th-95th pct)",
                  "value": f"{np.median(motion):.1f} ({np.percentile(motion, 5):.1f}-"
