@@ -103,7 +103,8 @@ def blur_features(image: np.ndarray) -> BlurFeatures:
     gradients, not the coarse ones) and the noise σ complete them.
 
     The direction comes from the second angular harmonic of the fall-off :math:`D_s` of sector
-    s (at angle :math:`\phi_s`), since blur along d multiplies the spectrum by
+    s (at angle :math:`\phi_s`), since blur along d multiplies the spectrum by (eq. 2: the
+    spectrum of b is that of x times that of c)
 
     .. math::
 
