@@ -15,10 +15,23 @@ PACKAGE_DIR = Path(__file__).resolve().parents[1] / "src" / "blurloc"
 #: Layers from the bottom up; a module may import modules of its own layer or of lower ones.
 #: A name stands for the module and everything under it; the longest matching name wins.
 LAYERS = (
-    ("errors", "files", "images", "processes", "poses", "paper", "intervals", "tables", "config"),
+    (
+        "errors",
+        "image_headers",
+        "files",
+        "images",
+        "processes",
+        "poses",
+        "paper",
+        "intervals",
+        "tables",
+        "config",
+        "stored",
+    ),
     ("geometry",),
     ("blur", "metrics"),
     ("deconv",),
+    ("batch_deblur",),
     ("data", "trajectory"),
     ("models", "checkpoints"),
     ("train.config", "train.datasets", "train.loop"),
@@ -26,7 +39,7 @@ LAYERS = (
     ("train",),
     ("experiments",),
     ("plots",),
-    ("reproduction", "publish", "runner", "cli"),
+    ("reproduction", "publish", "runner", "notebook", "cli"),
 )
 
 
