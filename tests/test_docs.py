@@ -12,16 +12,15 @@ REPOSITORY = Path(__file__).resolve().parents[1]
 README = REPOSITORY / "README.md"
 
 
-def _load_stage_book():
-    spec = importlib.util.spec_from_file_location(
-        "stage_book", REPOSITORY / "docs" / "stage_book.py"
-    )
+def _load_module(name: str):
+    spec = importlib.util.spec_from_file_location(name, REPOSITORY / "docs" / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
 
 
-stage_book = _load_stage_book()
+stage_book = _load_module("stage_book")
+check_book = _load_module("check_book")
 
 
 def _section(text: str, heading: str) -> str:
@@ -104,3 +103,18 @@ def test_stage_copies_linked_files_and_points_the_book_link_home(tmp_path: Path)
 
 def test_readme_links_the_book_entry_page() -> None:
     assert re.search(r"\]\(build/site/index\.html\)", README.read_text(encoding="utf-8"))
+
+
+def test_book_check_fails_pages_without_their_figures_or_equations() -> None:
+    shown = {"src": "a.png", "width": 640, "decoded": True}
+    broken = {"src": "b.png", "width": 0, "decoded": False}
+    page = {"title": "02", "text_length": 5000, "typeset_math": 3, "tex_source": False}
+    notebook = "notebooks/executed/02.html"
+    assert check_book.page_failures(notebook, page | {"images": [shown]}, True) == []
+    assert check_book.page_failures(notebook, page | {"images": [shown, broken]}, True)
+    assert check_book.page_failures(notebook, page | {"images": []}, True)
+    assert check_book.page_failures("docs/gpu.html", page | {"images": []}, True) == []
+    untypeset = page | {"images": [shown], "tex_source": True}
+    assert check_book.page_failures(notebook, untypeset, True)
+    assert check_book.page_failures(notebook, untypeset, False) == []
+    assert check_book.page_failures(notebook, {"error": "timed out"}, True)
