@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 QUICK ?= 0
 
-.PHONY: setup reproduce test lint clean
+.PHONY: setup reproduce test lint docs clean
 
 setup: $(STAMP)
 
@@ -23,6 +23,15 @@ test: setup
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/ruff format --check src tests benchmarks
 	$(BIN)/python -m pytest -q
+
+## The book: README, docs/ and the executed notebooks as a static site in build/site (offline).
+docs: setup $(VENV)/.docs-installed
+	$(BIN)/python docs/stage_book.py build/book-src
+	NO_MKDOCS_2_WARNING=1 $(BIN)/python -m mkdocs build --clean --quiet
+
+$(VENV)/.docs-installed: requirements-docs.txt $(STAMP)
+	$(BIN)/python -m pip install --quiet -r requirements-docs.txt
+	touch $@
 
 lint: setup
 	$(BIN)/ruff check src tests benchmarks

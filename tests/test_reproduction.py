@@ -1,5 +1,5 @@
 """Paper vs reproduction and the errata: computed from the printed numbers, measured side read
-from result files; and every figure the README shows is one a notebook writes."""
+from result files; and every figure the README and docs/ show is one a notebook writes."""
 
 from __future__ import annotations
 
@@ -25,7 +25,8 @@ from blurloc.reproduction import (
 )
 from blurloc.runner import EXPECTED_OUTPUTS
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+REPOSITORY = Path(__file__).resolve().parents[1]
+PAGES = [REPOSITORY / "README.md", *sorted((REPOSITORY / "docs").glob("*.md"))]
 
 
 def _find(rows: list[dict], where: str, metric: str) -> dict:
@@ -134,8 +135,9 @@ def test_table3_rows_are_labelled_and_formatted_like_the_paper() -> None:
     assert paper_values("table3", "position_m", "Proposed")["chess"] == 0.14
 
 
-def test_readme_shows_only_figures_that_notebooks_write() -> None:
-    shown = set(re.findall(r"\]\(figures/([\w.-]+)\)", README.read_text()))
+def test_readme_and_docs_show_only_figures_that_notebooks_write() -> None:
+    figure_link = re.compile(r"\]\((?:\.\./)?figures/([\w.-]+)\)")
+    shown = {name for page in PAGES for name in figure_link.findall(page.read_text())}
     written = {file for files in EXPECTED_OUTPUTS.values() for file in files}
     assert {f"fig{n:02d}" for n in range(6, 11)} <= {name[:5] for name in shown}
     assert shown <= written, sorted(shown - written)
