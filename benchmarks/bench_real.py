@@ -1,6 +1,8 @@
-"""Today's stages measured on the real development set (``samples/real``, see its README).
+"""The stages measured on the real development set (``samples/real``, see its README) beside
+the stand-in's test split, in one run.
 
-    python benchmarks/bench_real.py [--out figures/bench_real]
+    python benchmarks/bench_real.py [--out figures/bench_real] [--standin data/standin]
+                                    [--budget 600]
 
 Measures, with the package's current API and defaults:
 
@@ -12,7 +14,9 @@ Measures, with the package's current API and defaults:
   frames and over the half with the slower motion;
 - blind Wiener deblurring (:func:`blurloc.deconv.deblur_blind`): PSNR against the sharp frame
   before and after, on the real blurred/sharp pairs;
-- the TUM reader of ``pose-error`` (:func:`blurloc.trajectory.read_tum`) on the real TUM files.
+- the TUM reader of ``pose-error`` (:func:`blurloc.trajectory.read_tum`) on the real TUM files;
+- on the stand-in (rows marked "stand-in"): the estimator and detector against the blur it
+  recorded, and the same rank correlations with the camera's image motion.
 
 The camera's image motion of a frame is
 :func:`~blurloc.experiments.blur_estimation.camera_motion_px`: the mean displacement of a grid
@@ -51,6 +55,9 @@ from blurloc.deconv import deblur_blind
 from blurloc.experiments.blur_estimation import (
     TRAINING_PHOTOS,
     camera_motion_px,
+    estimation_rows,
+    estimation_summary,
+    motion_rank_correlation,
     variance_of_laplacian,
 )
 from blurloc.metrics import psnr
@@ -120,6 +127,23 @@ def motion_rows(rows: list[dict]) -> None:
                      "value": round(float(flagged), 3), "target": ""})  # fmt: skip
 
 
+def standin_rows(rows: list[dict], root: Path, budget: int) -> None:
+    """The same stages on the stand-in's test split, beside the real rows: the estimator and
+    detector against the recorded blur (``blur.csv``), and the rank correlation of the length and
+    of the variance of the Laplacian with the camera's image motion."""
+    data = f"stand-in test split ({root.name}, about {budget} frames)"
+    for summary in estimation_summary(estimation_rows(root, "test", budget)):
+        rows.append({"stage": "estimate_motion_blur / detect_blur", "data": data,
+                     "n": summary["frames"], "measure": summary["measure"],
+                     "value": summary["value"], "target": summary["target"]})  # fmt: skip
+    overall = motion_rank_correlation(root, "test", budget)[-1]
+    for stage, key in (("estimate_motion_blur length", "estimate_spearman"),
+                       ("negated variance of the Laplacian", "laplacian_spearman")):  # fmt: skip
+        rows.append({"stage": stage, "data": data, "n": overall["frames"],
+                     "measure": "Spearman with camera image motion", "value": overall[key],
+                     "target": ">= 0.5" if "length" in stage else ""})  # fmt: skip
+
+
 def deblur_rows(rows: list[dict]) -> None:
     """PSNR of blind Wiener deblurring against the sharp frame on the real pairs."""
     for name, blurred, sharp in load_pairs():
@@ -165,13 +189,23 @@ def write(out: Path, rows: list[dict], detection: list[str], command: str) -> No
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="figures/bench_real", help="output path without suffix")
+    parser.add_argument(
+        "--standin",
+        default="data/standin",
+        help="stand-in root measured beside the real data (blurloc synth)",
+    )
+    parser.add_argument("--budget", type=int, default=600,
+                        help="about how many stand-in test frames to read")  # fmt: skip
     args = parser.parse_args()
+    if not (Path(args.standin) / "standin.json").is_file():
+        parser.error(f"--standin {args.standin}: no stand-in there (make one with blurloc synth)")
     verify()
     rows: list[dict] = []
     detection = detection_rows(rows)
     motion_rows(rows)
     deblur_rows(rows)
     tum_rows(rows)
+    standin_rows(rows, Path(args.standin), args.budget)
     for row in rows:
         print(" | ".join(str(v) for v in row.values()))
     write(Path(args.out), rows, detection, "python " + " ".join(sys.argv))
