@@ -368,11 +368,8 @@ RESUME_TRAINING = ("--out keeps the last finished epoch or validation and histor
                    "same command again to resume")  # fmt: skip
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of every subcommand."""
-    parser = argparse.ArgumentParser(prog="blurloc", description=__doc__)
-    commands = parser.add_subparsers(dest="command", required=True)
-
+def _add_synth_parser(commands: argparse._SubParsersAction) -> None:
+    """Add ``blurloc synth`` and its options to ``commands``."""
     synth = commands.add_parser("synth", help="render the synthetic 7-Scenes stand-in")
     synth.add_argument("--out", required=True, help="root folder to write (7-Scenes layout)")
     synth.add_argument("--scenes", nargs="+", help="scenes to render (default: all seven)")
@@ -394,16 +391,25 @@ def build_parser() -> argparse.ArgumentParser:
     synth.add_argument("--quiet", action="store_true", help="no progress bar")
     synth.set_defaults(handler=_synth, resume="run the same command again to render it in full")
 
+
+def _add_check_data_parser(commands: argparse._SubParsersAction) -> None:
+    """Add ``blurloc check-data`` and its options to ``commands``."""
     check = commands.add_parser("check-data", help="validate a 7-Scenes-layout root, print counts")
     check.add_argument("root")
     check.set_defaults(handler=_check_data)
 
+
+def _add_blur_estimate_parser(commands: argparse._SubParsersAction) -> None:
+    """Add ``blurloc blur-estimate`` and its options to ``commands``."""
     estimate = commands.add_parser(
         "blur-estimate", help="detect motion blur, estimate its length and angle (JSON lines)"
     )
     estimate.add_argument("images", nargs="+", help="image files")
     estimate.set_defaults(handler=_blur_estimate)
 
+
+def _add_deblur_parser(commands: argparse._SubParsersAction) -> None:
+    """Add ``blurloc deblur`` and its options to ``commands``."""
     deblur = commands.add_parser(
         "deblur", help="Wiener deblurring of an image or a folder (blind without a kernel)"
     )
@@ -416,6 +422,9 @@ def build_parser() -> argparse.ArgumentParser:
     deblur.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
     deblur.set_defaults(handler=_deblur)
 
+
+def _add_train_video_deblur_parser(commands: argparse._SubParsersAction) -> None:
+    """Add ``blurloc train-video-deblur`` and its options to ``commands``."""
     train = commands.add_parser(
         "train-video-deblur", help="train the recurrent deblurring network on a stand-in root"
     )
@@ -449,6 +458,9 @@ def build_parser() -> argparse.ArgumentParser:
     train.add_argument("--quiet", action="store_true", help="no progress bar")
     train.set_defaults(handler=_train_video_deblur, resume=RESUME_TRAINING)
 
+
+def _add_deblur_video_parser(commands: argparse._SubParsersAction) -> None:
+    """Add ``blurloc deblur-video`` and its options to ``commands``."""
     video = commands.add_parser(
         "deblur-video", help="deblur a video folder with the recurrent network"
     )
@@ -458,6 +470,9 @@ def build_parser() -> argparse.ArgumentParser:
     video.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
     video.set_defaults(handler=_deblur_video)
 
+
+def _add_train_pose_parser(commands: argparse._SubParsersAction) -> None:
+    """Add ``blurloc train-pose`` and its options to ``commands``."""
     pose = commands.add_parser("train-pose", help="train camera pose regression on one scene")
     pose.add_argument("--data", required=True, help="7-Scenes-layout root")
     pose.add_argument("--scene", required=True)
@@ -496,6 +511,9 @@ def build_parser() -> argparse.ArgumentParser:
     pose.add_argument("--quiet", action="store_true", help="no progress bar")
     pose.set_defaults(handler=_train_pose, resume=RESUME_TRAINING)
 
+
+def _add_eval_pose_parser(commands: argparse._SubParsersAction) -> None:
+    """Add ``blurloc eval-pose`` and its options to ``commands``."""
     evaluate = commands.add_parser("eval-pose", help="predict a scene's test frames (TUM file)")
     evaluate.add_argument("--data", required=True)
     evaluate.add_argument("--scene", required=True)
@@ -504,6 +522,9 @@ def build_parser() -> argparse.ArgumentParser:
     evaluate.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
     evaluate.set_defaults(handler=_eval_pose)
 
+
+def _add_pose_error_parser(commands: argparse._SubParsersAction) -> None:
+    """Add ``blurloc pose-error`` and its options to ``commands``."""
     error = commands.add_parser("pose-error", help="errors between two trajectories (JSON)")
     error.add_argument("ground_truth", help="TUM file or 7-Scenes sequence folder")
     error.add_argument("estimate", help="TUM file or 7-Scenes sequence folder")
@@ -515,6 +536,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     error.set_defaults(handler=_pose_error)
 
+
+def _add_run_notebooks_parser(commands: argparse._SubParsersAction) -> None:
+    """Add ``blurloc run-notebooks`` and its options to ``commands``."""
     run = commands.add_parser("run-notebooks", help="run the notebooks in order with papermill")
     run.add_argument("--quick", action="store_true", help="small sizes (as in the tests)")
     run.add_argument("--data-root", help="7-Scenes-layout root (default: the stand-in)")
@@ -523,6 +547,29 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--device", help="auto (default: CUDA when present), cpu, cuda")
     run.add_argument("notebooks", nargs="*", help="notebook names (default: all, in order)")
     run.set_defaults(handler=_run_notebooks)
+
+
+#: Each subcommand's parser builder, in the order ``blurloc --help`` lists them.
+_PARSER_BUILDERS = (
+    _add_synth_parser,
+    _add_check_data_parser,
+    _add_blur_estimate_parser,
+    _add_deblur_parser,
+    _add_train_video_deblur_parser,
+    _add_deblur_video_parser,
+    _add_train_pose_parser,
+    _add_eval_pose_parser,
+    _add_pose_error_parser,
+    _add_run_notebooks_parser,
+)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of every subcommand."""
+    parser = argparse.ArgumentParser(prog="blurloc", description=__doc__)
+    commands = parser.add_subparsers(dest="command", required=True)
+    for add_parser in _PARSER_BUILDERS:
+        add_parser(commands)
     return parser
 
 
