@@ -356,6 +356,63 @@ def render_poses(
         raise ValueError(f"at most {_NO_HIT} quads can be rendered, got {quads}")
     poses = np.asarray(poses, float).reshape(-1, 4, 4)
     count, pixels = poses.shape[0], width * height
+    zbuffer, nearest, coord_u, coord_v, offset_n = _rasterize(arrays, poses, camera, width, height)
+
+    # Shade the visible pixels of each quad (all poses together), in order of quad.
+    nearest = nearest.ravel()
+    order = np.argsort(nearest, kind="stable")  # a radix sort: stays ordered by pose, pixel
+    slots = _NO_HIT + 1  # quad indices and no hit
+    key = (
+        nearest.reshape(count, pixels) + np.arange(0, count * slots, slots, dtype=np.int32)[:, None]
+    )
+    per_pose = np.bincount(key.ravel(), minlength=count * slots).reshape(count, slots)[:, :quads]
+    bounds = np.concatenate([[0], np.cumsum(per_pose.sum(axis=0))])
+    ray_length = np.tile(_ray_lengths(width, height, *camera[[0, 1, 0, 1], [0, 1, 2, 2]]), count)
+    zbuffer = zbuffer.ravel()
+    depths, coord_u, coord_v, ray_length = (
+        np.take(values.ravel(), order) for values in (zbuffer, coord_u, coord_v, ray_length)
+    )
+    focal = np.sqrt(camera[0, 0] * camera[1, 1])
+    shaded = np.zeros((count * pixels, 3), np.float32)  # in quad order; no surface: black
+    for index, quad in enumerate(scene.quads):
+        visible = slice(bounds[index], bounds[index + 1])
+        if bounds[index] == bounds[index + 1]:
+            continue
+        a, b = coord_u[visible] + np.float32(0.5), coord_v[visible] + np.float32(0.5)
+        # the lit side of the plane is the camera's, and |ray . normal| = |offset_n| / t
+        sides = np.sign(offset_n[:, index]).astype(np.float32)
+        if (sides != sides[0]).any():
+            sides = np.repeat(sides, per_pose[:, index])
+        else:
+            sides = sides[0]
+        light = _quad_light(arrays, index, a, b, sides, scene.ambient)
+        distance = depths[visible] * ray_length[visible]  # along the ray
+        offset = np.repeat(np.abs(offset_n[:, index]).astype(np.float32), per_pose[:, index])
+        cosine = np.maximum(offset / distance, np.float32(0.05))
+        footprint = distance * np.float32(arrays["texels_per_metre"][index] / focal)
+        footprint /= np.sqrt(cosine)
+        texels = arrays["texels"][index].astype(np.float32)
+        albedo = _albedo(quad, a * texels[0], b * texels[1], footprint)
+        np.multiply(albedo, light[:, None], out=shaded[visible])
+    back = np.empty(order.size, np.intp)
+    back[order] = np.arange(order.size)
+    image = np.take(shaded, back, axis=0)
+
+    depth = np.where(nearest < _NO_HIT, zbuffer, np.float32(0))
+    return image.reshape(count, height, width, 3), depth.reshape(count, height, width)
+
+
+def _rasterize(
+    arrays: dict[str, np.ndarray], poses: np.ndarray, camera: np.ndarray, width: int, height: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Z-buffer the quads of ``arrays`` (from :func:`_shading_constants`) for every pose.
+
+    Returns the nearest surface's depth (poses, height, width) float32 (inf where none), its
+    quad index (uint8, ``_NO_HIT`` where none), its centred coordinates ``a - 1/2`` and
+    ``b - 1/2`` (float32), and the camera's signed distance from each quad's plane
+    (poses, quads).
+    """
+    count = poses.shape[0]
     rotation, eye = poses[:, :3, :3], poses[:, :3, 3]
 
     # Planes in each camera: ray . w for the normal and both texture axes, and the camera's
@@ -399,61 +456,34 @@ def render_poses(
         np.copyto(nearest[window], index, where=closer)
         np.copyto(coord_u[window], a, where=closer)
         np.copyto(coord_v[window], b, where=closer)
+    return zbuffer, nearest, coord_u, coord_v, offset_n
 
-    # Shade the visible pixels of each quad (all poses together), in order of quad.
-    nearest = nearest.ravel()
-    order = np.argsort(nearest, kind="stable")  # a radix sort: stays ordered by pose, pixel
-    slots = _NO_HIT + 1  # quad indices and no hit
-    key = (
-        nearest.reshape(count, pixels) + np.arange(0, count * slots, slots, dtype=np.int32)[:, None]
-    )
-    per_pose = np.bincount(key.ravel(), minlength=count * slots).reshape(count, slots)[:, :quads]
-    bounds = np.concatenate([[0], np.cumsum(per_pose.sum(axis=0))])
-    ray_length = np.tile(_ray_lengths(width, height, *camera[[0, 1, 0, 1], [0, 1, 2, 2]]), count)
-    zbuffer = zbuffer.ravel()
-    depths, coord_u, coord_v, ray_length = (
-        np.take(values.ravel(), order) for values in (zbuffer, coord_u, coord_v, ray_length)
-    )
-    focal = np.sqrt(camera[0, 0] * camera[1, 1])
-    shaded = np.zeros((count * pixels, 3), np.float32)  # in quad order; no surface: black
-    for index, quad in enumerate(scene.quads):
-        visible = slice(bounds[index], bounds[index + 1])
-        if bounds[index] == bounds[index + 1]:
-            continue
-        t, length = depths[visible], ray_length[visible]
-        a, b = coord_u[visible] + np.float32(0.5), coord_v[visible] + np.float32(0.5)
-        # the lit side of the plane is the camera's, and |ray . normal| = |offset_n| / t
-        sides = np.sign(offset_n[:, index]).astype(np.float32)
-        if (sides != sides[0]).any():
-            sides = np.repeat(sides, per_pose[:, index])
-        else:
-            sides = sides[0]
-        square = a * a * np.float32(arrays["length_u"][index] ** 2)
-        square += b * b * np.float32(arrays["length_v"][index] ** 2)
-        light = np.float32(scene.ambient)
-        for lamp, power in enumerate(arrays["light_power"]):
-            lambert = np.maximum(sides * np.float32(arrays["light_normal"][index, lamp]), 0)
-            distance2 = a * np.float32(arrays["light_along_u"][index, lamp])
-            distance2 += b * np.float32(arrays["light_along_v"][index, lamp])
-            distance2 += np.float32(arrays["light_offset"][index, lamp])
-            distance2 += square
-            falloff = np.sqrt(distance2)
-            falloff *= np.maximum(distance2, np.float32(0.25))
-            light = light + (np.float32(power) * lambert) / falloff
-        distance = t * length  # along the ray
-        offset = np.repeat(np.abs(offset_n[:, index]).astype(np.float32), per_pose[:, index])
-        cosine = np.maximum(offset / distance, np.float32(0.05))
-        footprint = distance * np.float32(arrays["texels_per_metre"][index] / focal)
-        footprint /= np.sqrt(cosine)
-        texels = arrays["texels"][index].astype(np.float32)
-        albedo = _albedo(quad, a * texels[0], b * texels[1], footprint)
-        np.multiply(albedo, light[:, None], out=shaded[visible])
-    back = np.empty(order.size, np.intp)
-    back[order] = np.arange(order.size)
-    image = np.take(shaded, back, axis=0)
 
-    depth = np.where(nearest < _NO_HIT, zbuffer, np.float32(0))
-    return image.reshape(count, height, width, 3), depth.reshape(count, height, width)
+def _quad_light(
+    arrays: dict[str, np.ndarray],
+    index: int,
+    a: np.ndarray,
+    b: np.ndarray,
+    sides: np.ndarray | np.float32,
+    ambient: float,
+) -> np.ndarray:
+    """Light (n,) float32 reaching points (a, b) (n,) of quad ``index`` on its ``sides`` (+1 or
+    -1, per point or for all): ambient plus Lambert point lights with inverse-square falloff,
+    in closed form over the quad's coordinates (see :func:`_shading_constants`).
+    """
+    square = a * a * np.float32(arrays["length_u"][index] ** 2)
+    square += b * b * np.float32(arrays["length_v"][index] ** 2)
+    light = np.float32(ambient)
+    for lamp, power in enumerate(arrays["light_power"]):
+        lambert = np.maximum(sides * np.float32(arrays["light_normal"][index, lamp]), 0)
+        distance2 = a * np.float32(arrays["light_along_u"][index, lamp])
+        distance2 += b * np.float32(arrays["light_along_v"][index, lamp])
+        distance2 += np.float32(arrays["light_offset"][index, lamp])
+        distance2 += square
+        falloff = np.sqrt(distance2)
+        falloff *= np.maximum(distance2, np.float32(0.25))
+        light = light + (np.float32(power) * lambert) / falloff
+    return light
 
 
 def surface_depth(
@@ -560,44 +590,7 @@ def render_reference(
     )
     # world directions with unit z-component in the camera frame; float32 is ample at metres
     rays = (rays_camera @ rotation.T).astype(np.float32)
-
-    # Z-buffer over quads; each quad is intersected only with the rays inside its projected
-    # bounding box (all rays when it crosses the camera plane).
-    near = _NEAR
-    zbuffer = np.full((height, width), np.inf, np.float32)
-    nearest = np.full((height, width), -1)
-    hit_u = np.zeros((height, width), np.float32)
-    hit_v = np.zeros((height, width), np.float32)
-    corners_camera = (arrays["corners"] - eye) @ rotation  # (quads, 4, 3)
-    for index in range(len(scene.quads)):
-        z = corners_camera[index, :, 2]
-        if (z <= near).all():
-            continue
-        if (z > near).all():
-            uv = corners_camera[index, :, :2] / z[:, None] * [camera[0, 0], camera[1, 1]]
-            uv += camera[:2, 2]
-            u0, v0 = np.maximum(np.floor(uv.min(axis=0)).astype(int), 0)
-            u1, v1 = np.ceil(uv.max(axis=0)).astype(int) + 1
-            u1, v1 = min(u1, width), min(v1, height)
-            if u0 >= u1 or v0 >= v1:
-                continue
-        else:
-            u0, v0, u1, v1 = 0, 0, width, height
-        window = rays[v0:v1, u0:u1]
-        normal = arrays["normal"][index].astype(np.float32)
-        u_axis = arrays["u_axis"][index].astype(np.float32)
-        v_axis = arrays["v_axis"][index].astype(np.float32)
-        relative = eye - arrays["origin"][index]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            depth = np.float32(-relative @ normal) / (window @ normal)
-        coord_u = np.float32(relative @ u_axis) + depth * (window @ u_axis)
-        coord_v = np.float32(relative @ v_axis) + depth * (window @ v_axis)
-        closer = (depth > near) & (depth < zbuffer[v0:v1, u0:u1])
-        closer &= (coord_u >= 0) & (coord_u <= 1) & (coord_v >= 0) & (coord_v <= 1)
-        zbuffer[v0:v1, u0:u1][closer] = depth[closer]
-        nearest[v0:v1, u0:u1][closer] = index
-        hit_u[v0:v1, u0:u1][closer] = coord_u[closer]
-        hit_v[v0:v1, u0:u1][closer] = coord_v[closer]
+    zbuffer, nearest, hit_u, hit_v = _cast_rays(arrays, rays, pose, camera)
 
     rays = rays.reshape(-1, 3)
     nearest = nearest.ravel()
@@ -626,35 +619,100 @@ def render_reference(
             lambert = np.clip((to_light * surface_normal).sum(axis=1), 0, None) / np.sqrt(distance2)
             light += lamp.power * lambert / np.maximum(distance2, 0.25)
 
-        pyramid = texture_pyramid(quad.texture)
-        tex_h, tex_w = pyramid[0].shape[:2]
-        tex_x = hit_u[mask] * quad.repeat[0] * tex_w
-        tex_y = hit_v[mask] * quad.repeat[1] * tex_h
-        texels_per_metre = np.sqrt(
-            quad.repeat[0]
-            * tex_w
-            / arrays["length_u"][index]
-            * quad.repeat[1]
-            * tex_h
-            / arrays["length_v"][index]
-        )
         cosine = np.abs(facing) / ray_length[mask]
-        footprint = (
-            t * ray_length[mask] / focal / np.sqrt(np.maximum(cosine, 0.05)) * texels_per_metre
+        albedo = _reference_albedo(
+            quad,
+            hit_u[mask],
+            hit_v[mask],
+            t * ray_length[mask] / focal / np.sqrt(np.maximum(cosine, 0.05)),
+            arrays["length_u"][index],
+            arrays["length_v"][index],
         )
-        base, fraction = _mip_level(footprint)
-        fraction = fraction[:, None]
-        albedo = np.empty((t.size, 3), np.float32)
-        for lod in np.unique(base):
-            sel = base == lod
-            fine = _sample(pyramid[lod], tex_x[sel] / 2**lod - 0.5, tex_y[sel] / 2**lod - 0.5)
-            coarse = _sample(
-                pyramid[lod + 1],
-                tex_x[sel] / 2 ** (lod + 1) - 0.5,
-                tex_y[sel] / 2 ** (lod + 1) - 0.5,
-            )
-            albedo[sel] = (1 - fraction[sel]) * fine + fraction[sel] * coarse
         image[mask] = albedo * np.asarray(quad.tint, np.float32) * light[:, None].astype(np.float32)
 
     depth_image = np.where(hit, hit_depth, 0.0).reshape(height, width)
     return image.reshape(height, width, 3), depth_image
+
+
+def _cast_rays(
+    arrays: dict[str, np.ndarray], rays: np.ndarray, pose: np.ndarray, camera: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Nearest hit of each ray (height, width, 3) from ``pose`` among the quads of ``arrays``.
+
+    Each quad is intersected only with the rays inside its projected bounding box (all rays
+    when it crosses the camera plane). Returns the hit's depth (float32, inf where none), its
+    quad index (-1 where none) and its coordinates (a, b) on the quad (float32), each
+    (height, width).
+    """
+    height, width = rays.shape[:2]
+    rotation, eye = pose[:3, :3], pose[:3, 3]
+    near = _NEAR
+    zbuffer = np.full((height, width), np.inf, np.float32)
+    nearest = np.full((height, width), -1)
+    hit_u = np.zeros((height, width), np.float32)
+    hit_v = np.zeros((height, width), np.float32)
+    corners_camera = (arrays["corners"] - eye) @ rotation  # (quads, 4, 3)
+    for index in range(len(corners_camera)):
+        z = corners_camera[index, :, 2]
+        if (z <= near).all():
+            continue
+        if (z > near).all():
+            uv = corners_camera[index, :, :2] / z[:, None] * [camera[0, 0], camera[1, 1]]
+            uv += camera[:2, 2]
+            u0, v0 = np.maximum(np.floor(uv.min(axis=0)).astype(int), 0)
+            u1, v1 = np.ceil(uv.max(axis=0)).astype(int) + 1
+            u1, v1 = min(u1, width), min(v1, height)
+            if u0 >= u1 or v0 >= v1:
+                continue
+        else:
+            u0, v0, u1, v1 = 0, 0, width, height
+        window = rays[v0:v1, u0:u1]
+        normal = arrays["normal"][index].astype(np.float32)
+        u_axis = arrays["u_axis"][index].astype(np.float32)
+        v_axis = arrays["v_axis"][index].astype(np.float32)
+        relative = eye - arrays["origin"][index]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            depth = np.float32(-relative @ normal) / (window @ normal)
+        coord_u = np.float32(relative @ u_axis) + depth * (window @ u_axis)
+        coord_v = np.float32(relative @ v_axis) + depth * (window @ v_axis)
+        closer = (depth > near) & (depth < zbuffer[v0:v1, u0:u1])
+        closer &= (coord_u >= 0) & (coord_u <= 1) & (coord_v >= 0) & (coord_v <= 1)
+        zbuffer[v0:v1, u0:u1][closer] = depth[closer]
+        nearest[v0:v1, u0:u1][closer] = index
+        hit_u[v0:v1, u0:u1][closer] = coord_u[closer]
+        hit_v[v0:v1, u0:u1][closer] = coord_v[closer]
+    return zbuffer, nearest, hit_u, hit_v
+
+
+def _reference_albedo(
+    quad: Quad,
+    coord_u: np.ndarray,
+    coord_v: np.ndarray,
+    metres_per_pixel: np.ndarray,
+    length_u: float,
+    length_v: float,
+) -> np.ndarray:
+    """Untinted trilinear albedo (n, 3) of ``quad`` at its coordinates (a, b) (n,), looked up
+    level by level in its texture pyramid, for pixel footprints of ``metres_per_pixel`` (n,)
+    on a quad of sides ``length_u`` x ``length_v`` metres.
+    """
+    pyramid = texture_pyramid(quad.texture)
+    tex_h, tex_w = pyramid[0].shape[:2]
+    tex_x = coord_u * quad.repeat[0] * tex_w
+    tex_y = coord_v * quad.repeat[1] * tex_h
+    texels_per_metre = np.sqrt(
+        quad.repeat[0] * tex_w / length_u * quad.repeat[1] * tex_h / length_v
+    )
+    base, fraction = _mip_level(metres_per_pixel * texels_per_metre)
+    fraction = fraction[:, None]
+    albedo = np.empty((coord_u.size, 3), np.float32)
+    for lod in np.unique(base):
+        sel = base == lod
+        fine = _sample(pyramid[lod], tex_x[sel] / 2**lod - 0.5, tex_y[sel] / 2**lod - 0.5)
+        coarse = _sample(
+            pyramid[lod + 1],
+            tex_x[sel] / 2 ** (lod + 1) - 0.5,
+            tex_y[sel] / 2 ** (lod + 1) - 0.5,
+        )
+        albedo[sel] = (1 - fraction[sel]) * fine + fraction[sel] * coarse
+    return albedo
