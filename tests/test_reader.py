@@ -17,6 +17,7 @@ from blurloc.data import (
     DataError,
     check_data,
     load_split,
+    read_depth,
     read_image,
     read_pose,
     read_split,
@@ -24,6 +25,7 @@ from blurloc.data import (
 )
 from blurloc.files import link_or_copy
 from blurloc.geometry import quaternion_to_rotation
+from blurloc.image_headers import MAX_PIXELS_VARIABLE
 from blurloc.train.datasets import PoseSequenceDataset
 
 
@@ -119,6 +121,36 @@ def test_bad_frame_files_are_named(root: Path, kind: str, damage, message: str) 
     with pytest.raises(DataError, match=message) as error:
         check_data(root)
     assert str(bad_file) in str(error.value)
+
+
+def test_depth_is_read_in_metres_and_a_truncated_or_oversized_one_is_refused_by_name(
+    root: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    depth_file = _first(root, "depth")
+    millimetres = cv2.imread(str(depth_file), cv2.IMREAD_UNCHANGED)
+    assert millimetres.dtype == np.uint16
+    np.testing.assert_array_equal(read_depth(depth_file), millimetres / np.float32(1000))
+
+    data = depth_file.read_bytes()
+    depth_file.write_bytes(data[: int(len(data) * 0.8)])
+    with pytest.raises(DataError, match="truncated") as error:
+        read_depth(depth_file)
+    assert str(depth_file) in str(error.value)
+
+    depth_file.write_bytes(data)
+    height, width = millimetres.shape
+    monkeypatch.setenv(MAX_PIXELS_VARIABLE, str(height * width - 1))
+    with pytest.raises(DataError, match="more than the cap") as error:
+        read_depth(depth_file)
+    assert str(depth_file) in str(error.value)
+
+
+def test_a_colour_depth_image_is_refused_by_name(root: Path) -> None:
+    depth_file = _first(root, "depth")
+    cv2.imwrite(str(depth_file), np.zeros((4, 4, 3), np.uint8))
+    with pytest.raises(DataError, match="3 channels, expected one") as error:
+        read_depth(depth_file)
+    assert str(depth_file) in str(error.value)
 
 
 def test_small_rotation_noise_is_tolerated(root: Path) -> None:

@@ -66,11 +66,19 @@ def read_image(path: str | os.PathLike) -> np.ndarray:
 
 
 def read_depth(path: str | os.PathLike) -> np.ndarray:
-    """Read a depth image as metres (float32); 0 where the sensor has no reading."""
-    path = Path(path)
-    depth = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
-    if depth is None or depth.ndim != 2:
-        raise DataError(f"{path}: depth image is missing or unreadable")
+    """Read a depth image (millimetres, one channel) as metres (float32); 0 where the sensor
+    has no reading.
+
+    The file is decoded as colour frames are (:func:`~blurloc.files.decode_image`): its header
+    is checked against the pixel cap and for truncation first. DataError names a missing,
+    damaged, truncated, oversized or multi-channel file.
+    """
+    try:
+        depth = decode_image(path, cv2.IMREAD_UNCHANGED)
+    except ValueError as error:
+        raise DataError(str(error)) from None
+    if depth.ndim != 2:
+        raise DataError(f"{path}: depth image has {depth.shape[2]} channels, expected one")
     return depth.astype(np.float32) / 1000.0
 
 
