@@ -16,8 +16,8 @@ regressor's errors and ratios. Then the paired difference of the position and or
 ratios between the last and the first ``--epochs`` value, per render seed and scene, with a
 95 % t-interval. Both tables are also saved under ``--work`` (``learnability.md``/``.csv``,
 ``learnability_epochs.md``/``.csv``). Renders (about 5 minutes each on 2 cores) and trainings
-are kept under ``--work`` and not redone. Not part of ``make reproduce``; the README records
-the last run.
+are kept under ``--work`` and not redone. Not part of ``make reproduce``; docs/results.md
+("What reproduced, in numbers", the row on whether the regressor learns) records the last run.
 """
 
 from __future__ import annotations

@@ -21,8 +21,8 @@ into five blocks and each block 80/20 (:func:`blurloc.data.split_one_sequence`),
 views lie between training views: where the regressor misses the bar with the plain cut but
 meets it with the blocks, the test views' place in the recording, not the network, is what
 limits it (the blocks' cut and models are kept apart from the plain cut's under ``--work``).
-Not part of ``make reproduce`` (the 640x480 render alone exceeds its budget); the README records
-the last run.
+Not part of ``make reproduce`` (the 640x480 render alone exceeds its budget); docs/results.md
+("What reproduced, in numbers", the row on one 7-Scenes-length recording) records the last run.
 """
 
 from __future__ import annotations

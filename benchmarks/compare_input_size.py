@@ -14,8 +14,8 @@ does at the default size (``figures/pose_paired_differences.md``); both tables a
 under ``--work`` (``pose_input_<resize>.md``/``.csv`` and ``pose_input_<resize>_paired``).
 ``--data`` is the full-size default stand-in (rendered under ``--work`` when not given, about
 7 minutes on 2 cores); the deblurred copy (about 3 minutes) and the trainings (about 11
-minutes) are kept under ``--work``. Not part of ``make reproduce``; the README records the
-last run.
+minutes) are kept under ``--work``. Not part of ``make reproduce``; docs/results.md ("What
+reproduced, in numbers", the row on the main comparison at a larger input) records the last run.
 """
 
 from __future__ import annotations

@@ -63,10 +63,10 @@ from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
 from blurloc.models.video_deblur import VideoDeblurConfig
 from blurloc.train.config import PoseTrainConfig, VideoTrainConfig
 
-#: Stage times (s) of the last full run (README, "Full reproduction"; 2 cores): the render
-#: (988 s), notebook 03's ablation trainings (2,740 s) and, from its printed progress, the
-#: ablation scoring (364 s) and the two copies (195 s and 834 s); the rest of notebook 03
-#: (1,713 s in all); notebooks 04 and 06; notebooks 00-02 and 05.
+#: Stage times (s) of the last full run (docs/reproduction.md, "Full reproduction: time per
+#: notebook"; 2 cores): the render (988 s), notebook 03's ablation trainings (2,740 s) and, from
+#: its printed progress, the ablation scoring (364 s) and the two copies (195 s and 834 s); the
+#: rest of notebook 03 (1,713 s in all); notebooks 04 and 06; notebooks 00-02 and 05.
 REFERENCE = {"render": 988, "ablation trainings": 2740, "ablation scoring": 364,
              "Wiener copy": 195, "network copy": 834, "notebook 03, the rest": 320,
              "pose matrix (notebook 04)": 2778, "dose-response (notebook 06)": 950,

@@ -25,7 +25,8 @@ from .poses import PosePair
 from .train.config import PoseTrainConfig
 from .train.datasets import FrameCache, PoseSequenceDataset
 
-#: The trained video network shipped with the package (see README for the command that makes it).
+#: The trained video network shipped with the package (docs/cli.md, "Command line", gives the
+#: command that makes it).
 DEFAULT_CHECKPOINT = Path(__file__).with_name("weights") / "video_deblur.pt"
 #: Pixels restored at once by :func:`restore_frames` (bounds its memory for large frames).
 CHUNK_PIXELS = 2**22

@@ -53,7 +53,8 @@ class SynthConfig:
     mean is the pixel, in linear light): a camera's pixel integrates the light over its area,
     where one ray samples the scene at the pixel's centre (jagged edges, a coarser texture
     level). The default, one ray, is the stand-in's; three (nine rays) take about four times
-    as long to render and leave what the video network can undo much as it was (README).
+    as long to render and leave what the video network can undo much as it was (docs/results.md,
+    "What reproduced, in numbers").
 
     ``route_share`` is how much of each sequence's walk and gaze follows a route shared by all
     sequences of its scene (:func:`scene_route`), the rest being the sequence's own wander

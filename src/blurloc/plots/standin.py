@@ -8,7 +8,7 @@ from collections.abc import Sequence
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..data.synth import path_lengths
+from ..data.exposure import path_lengths
 from .style import SPLIT_COLOURS, label_metres_3d, styled
 
 
