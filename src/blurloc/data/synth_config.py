@@ -52,9 +52,8 @@ class SynthConfig:
     ``supersample`` is how many rays per pixel side every render of the exposure casts (their
     mean is the pixel, in linear light): a camera's pixel integrates the light over its area,
     where one ray samples the scene at the pixel's centre (jagged edges, a coarser texture
-    level). The default, one ray, is the stand-in's; three (nine rays) take about four times
-    as long to render and leave what the video network can undo much as it was (docs/results.md,
-    "What reproduced, in numbers").
+    level). The default, one ray, is the stand-in's; three (nine rays) take about nine times
+    the ray casts to render.
 
     ``route_share`` is how much of each sequence's walk and gaze follows a route shared by all
     sequences of its scene (:func:`scene_route`), the rest being the sequence's own wander
