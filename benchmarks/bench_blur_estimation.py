@@ -6,22 +6,21 @@
 Prints the estimator's and the detector's measures beside their targets (Spearman of estimated
 length vs recorded extent >= 0.8; median length error <= 1 px for extents >= 2 px; median angle
 error <= 10° for extents >= 4 px; frames under 1.5 px and sharp renders reported as sharp; >= 90 %
-of frames with >= 3 px flagged, >= 90 % of frames under 1 px and of sharp renders passed), the
-time per image, and the rank correlation with the camera's image-plane motion (from poses and
-depth) of the estimate and of the variance of the Laplacian. ROOT is a rendered stand-in
-(``blurloc synth``). ``--fit`` instead fits the length model on the training splits of the roots
-given and on blurred photographs (``photo_training_set``), writes it to ``--out`` (never over the
-shipped ``blurloc.blur.LENGTH_MODEL_PATH``, nor into an input root: shipping a new model is a copy
-made by hand) and prints the detector threshold chosen on the stand-in's training examples at their
-own scale (frames with >= 3 px against sharp renders and frames under 1.5 px, the two sharp groups
-counted equally). The shipped model: ``--fit data/standin R640_S0 R640_S1 --budget 6000 --out
-blur_length.npz``, where ``data/standin`` is the full default render (notebook 00; about 6,000 of
-its training frames are read), R640_S0 holds 640x480 renders of two scenes (``blurloc synth --out
+of frames with >= 3 px flagged, >= 90 % of frames under 1 px and of sharp renders passed), the time
+per image, and the rank correlation with the camera's image-plane motion (from poses and depth) of
+the estimate and of the variance of the Laplacian. ROOT is a rendered stand-in (``blurloc synth``).
+``--fit`` instead fits the length model on the training splits of the roots given and on blurred
+photographs (``photo_training_set``), writes it to ``--out`` (never over the shipped
+``blurloc.blur.LENGTH_MODEL_PATH``, nor into an input root: shipping a new model is a copy made by
+hand) and prints the detector threshold chosen on the stand-in's training examples at the analysis
+scale, at both sizes (frames with >= 3 px against sharp renders and frames under 1.5 px, the two
+sharp groups counted equally). The shipped model: ``--fit data/standin R640_S0 R640_S1 --budget 6000
+--out blur_length.npz``, where ``data/standin`` is the full default render (notebook 00; about 6,000
+of its training frames are read), R640_S0 holds 640x480 renders of two scenes (``blurloc synth --out
 R640_S0 --width 640 --height 480 --frames 12 --scenes chess office``) and R640_S1 of all seven with
 another seed (``blurloc synth --out R640_S1 --width 640 --height 480 --frames 16 --seed 1``), so
 that the model sees both scales. Its 640x480 check used two more renders made the same way, neither
-fitted on: seed 3 to choose ``blurloc.blur.SINC_AGREEMENT``, seed 2
-(``--root R640_S2``) to measure.
+fitted on: seed 3 to choose ``blurloc.blur.SINC_AGREEMENT``, seed 2 (``--root R640_S2``) to measure.
 """
 
 from __future__ import annotations
@@ -66,7 +65,7 @@ def fit(roots: list[str], budget: int | None, out: Path) -> None:
     model.save(out)
     scores = np.maximum(model.predict(features), 0.0)
     blurred = extents >= BLURRED_FROM_PX
-    keep = (blurred | (extents < SHARP_BELOW_PX)) & (features[:, -1] == 0)  # analysis = image
+    keep = blurred | (extents < SHARP_BELOW_PX)  # extents and scores: px at the analysis scale
     threshold = calibrate_blur_threshold(scores[keep], blurred[keep],
                                          sharp_groups=extents[keep] > 0)  # fmt: skip
     print(

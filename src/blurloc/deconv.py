@@ -15,11 +15,11 @@ from .blur import (
     BLUR_THRESHOLD,
     BlurEstimate,
     BlurFeatures,
+    analysis_length,
     blur_features,
     check_kernel,
     estimate_motion_blur,
     estimate_noise_sigma,
-    length_from_features,
 )
 from .images import check_image
 
@@ -338,7 +338,8 @@ def blind_kernel(
     image : numpy.ndarray
         (H, W) or (H, W, 3) image, uint8 or float in [0, 1]; short side >= 16 px.
     threshold : float
-        Blur length (px) above which the image counts as blurred.
+        Blur length (px at the analysis scale, as :func:`~blurloc.blur.blur_score`) above which
+        the image counts as blurred.
     gated : bool
         Return None also where the restoration is not expected to gain.
 
@@ -353,7 +354,7 @@ def blind_kernel(
     """
     image = check_image(image)
     features = blur_features(image)
-    if length_from_features(features) <= threshold:
+    if analysis_length(features) <= threshold:
         return None
     if not gated:
         return estimate_motion_blur(image, features=features).kernel()
@@ -393,7 +394,8 @@ def deblur_blind(
     nsr : float, optional
         The constant 1/SNR (> 0); default :func:`estimate_nsr` of the image.
     threshold : float
-        Blur length (px) above which the image counts as blurred.
+        Blur length (px at the analysis scale, as :func:`~blurloc.blur.blur_score`) above which
+        the image counts as blurred.
     gated : bool
         Pass through a frame whose restoration is not expected to gain.
 

@@ -30,6 +30,7 @@ from .kernels import blur_image, check_kernel, motion_kernel, shake_path, trajec
 from .length_model import (
     LENGTH_MODEL_PATH,
     LengthModel,
+    analysis_length,
     default_length_model,
     fit_length_model,
     length_from_features,
@@ -48,6 +49,7 @@ __all__ = [
     "BlurEstimate",
     "BlurFeatures",
     "LengthModel",
+    "analysis_length",
     "blur_features",
     "blur_image",
     "blur_score",

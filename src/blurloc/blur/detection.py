@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .features import blur_features
-from .length_model import length_from_features
+from .length_model import analysis_length
 
 #: The detector's classes, by recorded blur extent (px): frames with at least BLURRED_FROM_PX are
 #: blurred; frames under SHARP_BELOW_PX (too little blur for deblurring to help) count as sharp,
@@ -107,24 +107,26 @@ def detection_rates(
     return flagged, passed, (flagged + passed) / 2
 
 
-#: Estimated length (px) above which :func:`detect_blur` calls an image blurred, and at or below
-#: which the estimator reports it sharp. Chosen by :func:`calibrate_blur_threshold` on the
-#: stand-in's training split (frames with >= BLURRED_FROM_PX of blur against sharp renders and
-#: frames under SHARP_BELOW_PX, each of the two sharp groups counted equally; notebook 01
-#: recomputes it).
+#: Estimated length (px at the analysis scale) above which :func:`detect_blur` calls an image
+#: blurred, and at or below which the estimator reports it sharp. Chosen by
+#: :func:`calibrate_blur_threshold` on the stand-in's training examples at 160x120 and 640x480
+#: (frames with >= BLURRED_FROM_PX of blur against sharp renders and frames under
+#: SHARP_BELOW_PX, each of the two sharp groups counted equally; notebook 01 recomputes it).
 BLUR_THRESHOLD = 2.19
 
 
 def blur_score(image: np.ndarray) -> float:
-    r"""Blur score of an image: its coarse blind blur length in px.
+    r"""Blur score of an image: its coarse blind blur length at the analysis scale.
 
     .. math::
 
-        s(b) = L_{\text{coarse}}(b)
+        s(b) = \hat{L}(b)
 
-    the length of :func:`~blurloc.blur.length_from_features` on :func:`blur_features` (without
-    the sinc refinement of :func:`~blurloc.blur.estimate_motion_blur`). It grows with blur and is
-    about 0 for sharp frames.
+    the length of :func:`~blurloc.blur.analysis_length` on :func:`blur_features` (without the
+    sinc refinement of :func:`~blurloc.blur.estimate_motion_blur`): px of the image's copy with a
+    short side of at most ANALYSIS_SIDE px, so that the score measures blur against the size of
+    the whole image (a 160x120 frame is its own copy; 4 px of blur in a 640x480 frame score 2).
+    It grows with blur and is about 0 for sharp frames.
 
     Parameters
     ----------
@@ -134,7 +136,7 @@ def blur_score(image: np.ndarray) -> float:
     Returns
     -------
     float
-        The score, px of the image given (>= 0).
+        The score, px at the analysis scale (>= 0).
 
     Raises
     ------
@@ -146,7 +148,7 @@ def blur_score(image: np.ndarray) -> float:
     Yitzhaky and Kopeika, "Identification of blur parameters from motion blurred images", CVGIP
     1997. The paper's Section III.A.1 (is the image blurred?).
     """
-    return length_from_features(blur_features(image))
+    return analysis_length(blur_features(image))
 
 
 def detect_blur(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> tuple[bool, float]:
@@ -163,14 +165,15 @@ def detect_blur(image: np.ndarray, threshold: float = BLUR_THRESHOLD) -> tuple[b
     image : numpy.ndarray
         (H, W) or (H, W, 3) image, uint8 or float in [0, 1]; short side >= MIN_ANALYSIS_SIDE px.
     threshold : float
-        t, px (default BLUR_THRESHOLD, calibrated by :func:`calibrate_blur_threshold`).
+        t, px at the analysis scale (default BLUR_THRESHOLD, calibrated by
+        :func:`calibrate_blur_threshold`).
 
     Returns
     -------
     blurred : bool
         True when the score exceeds the threshold.
     score : float
-        The score, px.
+        The score, px at the analysis scale.
 
     References
     ----------

@@ -72,13 +72,16 @@ def _log_energy(values: np.ndarray) -> float:
 class BlurFeatures:
     """What the blur estimator reads off an image (see :func:`blur_features`).
 
-    ``values`` (63,): the log power spectrum, relative to its lowest frequencies, in 14 rings
+    ``values`` (62,): the log power spectrum, relative to its lowest frequencies, in 14 rings
     along the motion direction, 14 across it, 14 over all directions, and 14 over all directions
     without the noise floor removed; the log energies of the gradient, of the Laplacian, of the
-    gradient at half size and of the image; the log noise σ; the anisotropy; the log of
-    ``scale`` (a 640x480 frame's copy holds finer texture than a 160x120 frame). ``angle_deg``: the
+    gradient at half size and of the image; the log noise σ; the anisotropy. ``angle_deg``: the
     motion direction (module conventions); ``anisotropy``: how strongly the spectrum's fall-off
     depends on direction (0 for an isotropic spectrum); ``scale``: image px per analysis px.
+
+    The image's size is not among the values: a model that reads it learns how sharp one
+    renderer's pixels are at each size, while a camera's optics, demosaicing and compression
+    soften its finest pixels at any size, so that sharp photographs would read as blurred.
     """
 
     values: np.ndarray
@@ -119,7 +122,7 @@ def blur_features(image: np.ndarray) -> BlurFeatures:
     Returns
     -------
     BlurFeatures
-        The 63 values, the direction (degrees, y up), the anisotropy and the scale.
+        The 62 values, the direction (degrees, y up), the anisotropy and the scale.
 
     References
     ----------
@@ -167,7 +170,7 @@ def blur_features(image: np.ndarray) -> BlurFeatures:
         raw - raw[:2].mean(),
         [gradients[0], _log_energy(cv2.Laplacian(gray, cv2.CV_32F)), gradients[1],
          float(np.log(gray.var(dtype=np.float64) + 1e-12)), float(np.log(sigma + 1e-6)),
-         anisotropy, float(np.log(scale))],
+         anisotropy],
     ])  # fmt: skip
     angle = float(np.degrees(np.arctan2(-np.sin(direction), np.cos(direction))) % 180.0)
     return BlurFeatures(values, angle, anisotropy, scale)

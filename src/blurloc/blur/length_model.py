@@ -235,15 +235,49 @@ def fit_length_model(
     return LengthModel(mean, spread, fitted)
 
 
-def length_from_features(features: BlurFeatures, model: LengthModel | None = None) -> float:
-    r"""Coarse blur length of an image from its features, by the length model.
+def analysis_length(features: BlurFeatures, model: LengthModel | None = None) -> float:
+    r"""Coarse blur length of an image at the analysis scale, by the length model.
 
     .. math::
 
-        L = s \cdot \max(\hat{L}(v), 0)
+        \hat{L} = \max(f_\theta(v), 0)
 
-    with :math:`\hat{L}` the model's extent at the analysis scale (:meth:`LengthModel.predict`)
-    and s the factor from analysis pixels to the image's pixels (``features.scale``).
+    with :math:`f_\theta` the model (:meth:`LengthModel.predict`) and v the feature values: px
+    of the copy that :func:`~blurloc.blur.blur_features` measures (the image itself up to a short
+    side of ANALYSIS_SIDE px, else the image area-averaged to it).
+
+    Parameters
+    ----------
+    features : BlurFeatures
+        :func:`~blurloc.blur.blur_features` of the image.
+    model : LengthModel, optional
+        Default: :func:`default_length_model`.
+
+    Returns
+    -------
+    float
+        Blur length, px at the analysis scale (>= 0).
+
+    References
+    ----------
+    Hornik, Stinchcombe and White, "Multilayer feedforward networks are universal
+    approximators", Neural Networks 2(5), 1989. Lakshminarayanan, Pritzel and Blundell,
+    "Simple and scalable predictive uncertainty estimation using deep ensembles", NeurIPS
+    2017 (averaging networks trained from different initial weights).
+    """
+    model = model or default_length_model()
+    return max(float(model.predict(features.values)[0]), 0.0)
+
+
+def length_from_features(features: BlurFeatures, model: LengthModel | None = None) -> float:
+    r"""Coarse blur length of an image from its features, in the image's pixels.
+
+    .. math::
+
+        L = s \cdot \hat{L}
+
+    with :math:`\hat{L}` the length at the analysis scale (:func:`analysis_length`) and s the
+    factor from analysis pixels to the image's pixels (``features.scale``).
 
     Parameters
     ----------
@@ -259,10 +293,6 @@ def length_from_features(features: BlurFeatures, model: LengthModel | None = Non
 
     References
     ----------
-    Hornik, Stinchcombe and White, "Multilayer feedforward networks are universal
-    approximators", Neural Networks 2(5), 1989. Lakshminarayanan, Pritzel and Blundell,
-    "Simple and scalable predictive uncertainty estimation using deep ensembles", NeurIPS
-    2017 (averaging networks trained from different initial weights).
+    See :func:`analysis_length`.
     """
-    model = model or default_length_model()
-    return max(float(model.predict(features.values)[0]), 0.0) * features.scale
+    return analysis_length(features, model) * features.scale

@@ -17,10 +17,10 @@ from ..blur import (
     BLUR_THRESHOLD,
     BLURRED_FROM_PX,
     SHARP_BELOW_PX,
+    analysis_length,
     blur_features,
     blur_image,
     estimate_motion_blur,
-    length_from_features,
     trajectory_kernel,
 )
 from ..data.samples import split_frames
@@ -215,9 +215,9 @@ def estimation_rows(
         One row per image: kind (``color`` or ``sharp``), scene, sequence, frame, extent_px
         (recorded mean path length; 0 for sharp renders), angle_deg (recorded), estimated_length_px,
         estimated_angle_deg, length_error_px, angle_error_deg, score
-        (:func:`~blurloc.blur.blur_score`: the coarse length), flagged (score above
-        BLUR_THRESHOLD; the deblurring pipeline's cut), reported_sharp (estimated length at
-        most BLUR_THRESHOLD).
+        (:func:`~blurloc.blur.blur_score`: the coarse length at the analysis scale), flagged
+        (score above BLUR_THRESHOLD; the deblurring pipeline's cut), reported_sharp (estimated
+        length at the analysis scale at most BLUR_THRESHOLD).
     """
     rows = []
     kinds = ("color", "sharp") if sharp_renders else ("color",)
@@ -227,7 +227,7 @@ def estimation_rows(
             image = read_image(sequence.path(record["frame"], kind))
             features = blur_features(image)
             estimate = estimate_motion_blur(image, features=features)
-            score = length_from_features(features)
+            score = analysis_length(features)
             extent = record["mean_px"] if kind == "color" else 0.0
             rows.append({
                 "kind": kind, "scene": record["scene"], "sequence": record["sequence"],
@@ -237,7 +237,7 @@ def estimation_rows(
                 "length_error_px": abs(estimate.length_px - extent),
                 "angle_error_deg": float(angle_error_deg(estimate.angle_deg, record["angle_deg"])),
                 "score": score, "flagged": score > BLUR_THRESHOLD,
-                "reported_sharp": estimate.length_px <= BLUR_THRESHOLD,
+                "reported_sharp": estimate.length_px / features.scale <= BLUR_THRESHOLD,
             })  # fmt: skip
     return rows
 
