@@ -377,11 +377,11 @@ def test_gate_passes_a_noisy_shaken_frame_that_restoration_would_harm() -> None:
 
 
 def test_gate_thresholds() -> None:
-    features = BlurFeatures(np.zeros(63), 0.0, anisotropy=GATE_MIN_ANISOTROPY, scale=1.0)
+    features = BlurFeatures(np.zeros(62), 0.0, anisotropy=GATE_MIN_ANISOTROPY, scale=1.0)
     trusted = BlurEstimate(length_px=12.0, angle_deg=0.0, fit=GATE_MIN_FIT)
     assert blind_restoration_expected_to_gain(trusted, features, GATE_MAX_NOISE)
     assert not blind_restoration_expected_to_gain(trusted, features, GATE_MAX_NOISE * 1.01)
     unrefined = BlurEstimate(length_px=12.0, angle_deg=0.0, fit=0.0)
     assert not blind_restoration_expected_to_gain(unrefined, features, 0.0)
-    isotropic = BlurFeatures(np.zeros(63), 0.0, anisotropy=0.9 * GATE_MIN_ANISOTROPY, scale=1.0)
+    isotropic = BlurFeatures(np.zeros(62), 0.0, anisotropy=0.9 * GATE_MIN_ANISOTROPY, scale=1.0)
     assert not blind_restoration_expected_to_gain(trusted, isotropic, 0.0)
