@@ -129,7 +129,7 @@ def test_length_training_examples(quick_root: Path) -> None:
     assert (extents == 0).sum() >= 3 and (extents > 0).sum() >= 10
     # rows: frame 0, its sharp render, frames 1-4, frame 4's sharp render, ...
     assert extents[1] == 0 and extents[6] == 0 and extents[0] > 0
-    assert features[6][-3] > features[1][-3] + 0.2  # log noise σ: frame 4's sharp render is noisy
+    assert features[6][-2] > features[1][-2] + 0.2  # log noise σ: frame 4's sharp render is noisy
     photo_features, photo_extents = photo_training_set(count=12, seed=1)
     assert photo_features.shape == (12, 62) and (photo_extents >= 0).all()
     assert 0 < (photo_extents == 0).sum() < 12 and photo_extents.max() <= 25.0
