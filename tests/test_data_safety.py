@@ -293,10 +293,20 @@ def test_pose_error_warns_when_few_poses_are_matched(
 # ---- interruptions ------------------------------------------------------------------------
 
 
+@pytest.fixture
+def default_interrupt():
+    """Python's own Ctrl-C handler in this process while the test runs, as a new ``blurloc``
+    process has it, whatever handler an earlier test or library left behind (an ignored
+    SIGINT would also pass to the subprocesses the test starts)."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 @pytest.mark.parametrize("signal_number", [signal.SIGINT, signal.SIGTERM])
 def test_an_interrupted_training_ends_in_one_line_and_keeps_its_history(
     signal_number: int, quick_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture,
-    monkeypatch: pytest.MonkeyPatch,
+    monkeypatch: pytest.MonkeyPatch, default_interrupt: None,
 ) -> None:  # fmt: skip
     validate = blurloc.train.pose.predict_poses
     calls = []
@@ -324,7 +334,9 @@ def test_an_interrupted_training_ends_in_one_line_and_keeps_its_history(
     assert json.loads((out / "history.json").read_text())["epoch"] == [1, 2, 3]
 
 
-def test_ctrl_c_in_synth_prints_one_line_from_the_whole_process_group(tmp_path: Path) -> None:
+def test_ctrl_c_in_synth_prints_one_line_from_the_whole_process_group(
+    tmp_path: Path, default_interrupt: None
+) -> None:
     out = tmp_path / "standin"
     command = [sys.executable, "-m", "blurloc.cli", "synth", "--out", str(out), "--quick",
                "--frames", "400", "--workers", "2", "--quiet"]  # fmt: skip
