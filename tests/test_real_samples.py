@@ -12,7 +12,6 @@ import pytest
 
 from blurloc.data import load_split
 from blurloc.data.real import (
-    MANIFEST,
     POSED_SCENE,
     SKIMAGE_PREFIX,
     DataError,
@@ -20,6 +19,7 @@ from blurloc.data.real import (
     entry_path,
     load_pairs,
     load_photographs,
+    manifest_path,
     part_entries,
     posed_camera,
     posed_frame_table,
@@ -64,7 +64,7 @@ def test_checksums_match_the_manifest():
 
 def test_scikit_image_photographs_match_their_checksums(tmp_path):
     manifest = tmp_path / "MANIFEST.csv"
-    with MANIFEST.open() as source, manifest.open("w") as target:
+    with manifest_path().open() as source, manifest.open("w") as target:
         rows = [line for line in source if line.startswith(("file,", SKIMAGE_PREFIX))]
         target.writelines(rows)
     assert len(verify(tmp_path, manifest)) == len(rows) - 1 >= 17
@@ -75,7 +75,7 @@ def test_a_changed_or_missing_file_is_named(tmp_path):
     copy = tmp_path / "photo.png"
     shutil.copyfile(entry_path(entry), copy)
     manifest = tmp_path / "MANIFEST.csv"
-    header = MANIFEST.read_text().splitlines()[0]
+    header = manifest_path().read_text().splitlines()[0]
     with manifest.open("w", newline="") as handle:
         handle.write(header + "\n")
         csv.writer(handle).writerow(
@@ -92,7 +92,7 @@ def test_a_changed_or_missing_file_is_named(tmp_path):
 
 def test_an_incomplete_manifest_row_is_refused(tmp_path):
     manifest = tmp_path / "MANIFEST.csv"
-    lines = MANIFEST.read_text().splitlines()
+    lines = manifest_path().read_text().splitlines()
     manifest.write_text("\n".join([lines[0], lines[1].replace(ENTRIES[0].sha256, "abc")]) + "\n")
     with pytest.raises(DataError, match=r"MANIFEST.csv:2: sha256"):
         read_manifest(manifest)

@@ -18,11 +18,16 @@ from pathlib import Path
 import numpy as np
 import skimage
 
+from ..config import project_root
 from .sevenscenes import DataError, read_image
 
-REPOSITORY = Path(__file__).resolve().parents[3]
-MANIFEST = REPOSITORY / "samples" / "real" / "MANIFEST.csv"
 ROOT_VARIABLE = "BLURLOC_REAL_DATA"
+
+
+def manifest_path() -> Path:
+    """``samples/real/MANIFEST.csv`` of the project (:func:`blurloc.config.project_root`: found
+    from the working folder, or named by ``BLURLOC_ROOT``)."""
+    return project_root() / "samples" / "real" / "MANIFEST.csv"
 PARTS = ("sharp", "blurred", "pairs", "posed", "tum")
 POSED_SCENE = "fr1_rpy"
 SKIMAGE_PREFIX = "skimage:"
@@ -44,13 +49,13 @@ class ManifestEntry:
     description: str
 
 
-def read_manifest(path: str | os.PathLike = MANIFEST) -> list[ManifestEntry]:
+def read_manifest(path: str | os.PathLike | None = None) -> list[ManifestEntry]:
     """Read the manifest and check that every row is complete.
 
     Parameters
     ----------
-    path : str or os.PathLike
-        The manifest CSV.
+    path : str or os.PathLike, optional
+        The manifest CSV (default :func:`manifest_path`).
 
     Returns
     -------
@@ -63,7 +68,7 @@ def read_manifest(path: str | os.PathLike = MANIFEST) -> list[ManifestEntry]:
         Naming the manifest (and line) when it is missing, its header differs, a row lacks a
         file, part, source, licence or a 64-digit sha256, a part is unknown, or a file repeats.
     """
-    path = Path(path)
+    path = Path(path) if path is not None else manifest_path()
     if not path.is_file():
         raise DataError(f"{path}: manifest is missing")
     with path.open(newline="") as handle:
@@ -94,9 +99,9 @@ def data_root() -> Path:
     """
     if os.environ.get(ROOT_VARIABLE):
         return Path(os.environ[ROOT_VARIABLE])
-    local = MANIFEST.parent
+    local = manifest_path().parent
     first = next(e.file for e in read_manifest() if not e.file.startswith(SKIMAGE_PREFIX))
-    for candidate in (local, REPOSITORY.parent / "shared" / "real"):
+    for candidate in (local, local.parents[2] / "shared" / "real"):
         if (candidate / first).is_file():
             return candidate
     return local
@@ -115,7 +120,7 @@ def sha256_of(path: str | os.PathLike) -> str:
 
 
 def verify(
-    root: str | os.PathLike | None = None, manifest: str | os.PathLike = MANIFEST
+    root: str | os.PathLike | None = None, manifest: str | os.PathLike | None = None
 ) -> list[ManifestEntry]:
     """Check every file of the manifest against its sha256.
 
@@ -123,8 +128,8 @@ def verify(
     ----------
     root : str or os.PathLike, optional
         Data root (:func:`data_root` when None).
-    manifest : str or os.PathLike
-        The manifest CSV.
+    manifest : str or os.PathLike, optional
+        The manifest CSV (default :func:`manifest_path`).
 
     Returns
     -------
@@ -147,7 +152,7 @@ def verify(
     return entries
 
 
-def part_entries(part: str, manifest: str | os.PathLike = MANIFEST) -> list[ManifestEntry]:
+def part_entries(part: str, manifest: str | os.PathLike | None = None) -> list[ManifestEntry]:
     """The manifest's entries of one part (``sharp``, ``blurred``, ``pairs``, ``posed``,
     ``tum``), in manifest order."""
     if part not in PARTS:
