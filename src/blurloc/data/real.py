@@ -28,6 +28,8 @@ def manifest_path() -> Path:
     """``samples/real/MANIFEST.csv`` of the project (:func:`blurloc.config.project_root`: found
     from the working folder, or named by ``BLURLOC_ROOT``)."""
     return project_root() / "samples" / "real" / "MANIFEST.csv"
+
+
 PARTS = ("sharp", "blurred", "pairs", "posed", "tum")
 POSED_SCENE = "fr1_rpy"
 SKIMAGE_PREFIX = "skimage:"
