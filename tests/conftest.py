@@ -1,4 +1,4 @@
-"""Shared fixtures: one quick stand-in rendered once per test session."""
+"""Shared fixtures: one quick stand-in rendered once per test session, and empty projects."""
 
 from __future__ import annotations
 
@@ -21,3 +21,16 @@ def quick_root(tmp_path_factory: pytest.TempPathFactory) -> Path:
         workers=1,
         progress=False,
     )
+
+
+@pytest.fixture
+def make_project():
+    """A function that makes ``folder`` a minimal blurloc project (a ``notebooks/`` folder with
+    one numbered notebook) and returns it."""
+
+    def make(folder: Path) -> Path:
+        (folder / "notebooks").mkdir(parents=True)
+        (folder / "notebooks" / "00_first.ipynb").write_text("{}")
+        return folder
+
+    return make

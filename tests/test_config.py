@@ -9,17 +9,11 @@ import pytest
 from blurloc import config
 
 
-def _project(folder: Path) -> Path:
-    (folder / "notebooks").mkdir(parents=True)
-    (folder / "notebooks" / "00_first.ipynb").write_text("{}")
-    return folder
-
-
 def test_the_project_is_found_from_a_folder_inside_it(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    make_project, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.delenv(config.PROJECT_VARIABLE, raising=False)
-    root = _project(tmp_path / "project")
+    root = make_project(tmp_path / "project")
     inside = root / "notebooks" / "scratch"
     inside.mkdir()
     monkeypatch.chdir(inside)
@@ -28,8 +22,10 @@ def test_the_project_is_found_from_a_folder_inside_it(
     assert config.default_data_root(quick=True) == root.resolve() / "data" / "standin-quick"
 
 
-def test_the_variable_names_the_project(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    root = _project(tmp_path / "elsewhere")
+def test_the_variable_names_the_project(
+    make_project, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    root = make_project(tmp_path / "elsewhere")
     monkeypatch.setenv(config.PROJECT_VARIABLE, str(root))
     monkeypatch.chdir(tmp_path)
     assert config.project_root() == root.resolve()

@@ -10,16 +10,10 @@ import pytest
 from blurloc.notebook import setup
 
 
-def _project(folder: Path) -> Path:
-    (folder / "notebooks").mkdir(parents=True)
-    (folder / "notebooks" / "00_first.ipynb").write_text("{}")
-    return folder
-
-
 def test_empty_parameters_give_the_project_folders(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    make_project, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    root = _project(tmp_path).resolve()
+    root = make_project(tmp_path).resolve()
     monkeypatch.setenv("BLURLOC_ROOT", str(root))
     found = setup(True, 0, prepare_data=False)
     assert found == (root / "data" / "standin-quick", root / "results", root / "figures", None)
