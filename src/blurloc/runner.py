@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import csv
 import os
 import sys
 import time
 from pathlib import Path
 
-from .config import DEFAULT_SEED, default_data_root, project_root
+from .config import DEFAULT_SEED, default_data_root, project_root, write_rows
 
 #: Figure and table files (under ``figures_dir``) that each notebook promises to write.
 EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
@@ -273,8 +272,6 @@ def run_notebooks(
         seconds = time.perf_counter() - start
         timings.append((name, round(seconds, 1)))
         print(f"{name}: {seconds:.1f} s", flush=True)
-    with open(output_dir / "timings.csv", "w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(["notebook", "seconds"])
-        writer.writerows(timings)
+    write_rows([{"notebook": n, "seconds": s} for n, s in timings], output_dir / "timings.csv",
+               ["notebook", "seconds"])  # fmt: skip
     return timings

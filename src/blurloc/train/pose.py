@@ -118,6 +118,69 @@ def train_pose(
         )
 
 
+def _training_loader(
+    train_sequences: list[SequenceFrames], config: PoseTrainConfig, cache: FrameCache
+) -> torch.utils.data.DataLoader:
+    """Random windows of the training sequences, ``config.batch`` per step.
+
+    The single-frame head (``head == "none"``) sees single frames, ``window`` times as many per
+    step, so that both heads train on the same frames for the same number of steps.
+    """
+    single = config.model.head == "none"
+    dataset = PoseSequenceDataset(
+        train_sequences, window=1 if single else config.window,
+        stride=1 if single else config.stride, resize=config.resize, crop=config.crop,
+        random_crop=True, kinds=(config.image,), cache=cache,
+    )  # fmt: skip
+    frames_per_item = config.window if single else 1
+    batch = config.batch * frames_per_item
+    per_epoch = len(dataset)
+    if config.windows_per_epoch is not None:
+        per_epoch = config.windows_per_epoch * frames_per_item
+    sampler = torch.utils.data.RandomSampler(dataset, num_samples=per_epoch)
+    return torch.utils.data.DataLoader(dataset, batch_size=batch, sampler=sampler,
+                                       drop_last=per_epoch > batch)  # fmt: skip
+
+
+def _model_at_mean_pose(
+    config: PoseTrainConfig, train_sequences: list[SequenceFrames], cache: FrameCache,
+    device: torch.device,
+) -> PoseRegressor:  # fmt: skip
+    """A new regressor whose output biases are the mean training position and quaternion."""
+    model = PoseRegressor(config.model).to(device)
+    with torch.no_grad():
+        poses = np.concatenate([cache.poses(s) for s in train_sequences])
+        model.position.bias.copy_(torch.as_tensor(poses[:, :3, 3].mean(axis=0)))
+        quaternions = rotation_to_quaternion(poses[:, :3, :3])
+        model.rotation.bias.copy_(torch.as_tensor(quaternions.mean(axis=0)))
+    return model
+
+
+def _train_epoch(
+    model: PoseRegressor, weighting: LearnedWeighting | None, loader: torch.utils.data.DataLoader,
+    optimiser: torch.optim.Optimizer, schedule: torch.optim.lr_scheduler.LRScheduler,
+    config: PoseTrainConfig, device: torch.device,
+) -> list[float]:  # fmt: skip
+    """One pass over ``loader`` (eq. 14's loss, or the learnt weighting); the step losses."""
+    model.train()
+    losses = []
+    for batch in loader:
+        frames = batch[config.image].to(device)
+        position, quaternion = model(frames)
+        true_position = batch["position"].to(device).float()
+        true_quaternion = batch["quaternion"].to(device).float()
+        if weighting is None:
+            loss = pose_loss(position, quaternion, true_position, true_quaternion, config.beta)
+        else:
+            loss = weighting(position, quaternion, true_position, true_quaternion)
+        optimiser.zero_grad()
+        loss.backward()
+        optimiser.step()
+        schedule.step()
+        losses.append(loss.item())
+    return losses
+
+
 def _train(
     sequences: list[SequenceFrames], scene: str, out_dir: Path, config: PoseTrainConfig,
     device: torch.device, resumed: dict | None, progress: bool, stop_after: int | None,
@@ -127,28 +190,9 @@ def _train(
     seed_everything(config.seed)
     train_sequences, validation = split_validation(sequences)
     cache = cache if cache is not None else FrameCache()
-    single = config.model.head == "none"  # the head-less baseline sees single frames
-    dataset = PoseSequenceDataset(
-        train_sequences, window=1 if single else config.window,
-        stride=1 if single else config.stride, resize=config.resize, crop=config.crop,
-        random_crop=True, kinds=(config.image,), cache=cache,
-    )  # fmt: skip
-    # the single-frame head takes window x as many frames per step: the same frames and steps
-    frames_per_item = config.window if single else 1
-    batch = config.batch * frames_per_item
-    per_epoch = len(dataset)
-    if config.windows_per_epoch is not None:
-        per_epoch = config.windows_per_epoch * frames_per_item
-    sampler = torch.utils.data.RandomSampler(dataset, num_samples=per_epoch)
-    loader = torch.utils.data.DataLoader(dataset, batch_size=batch, sampler=sampler,
-                                         drop_last=per_epoch > batch)  # fmt: skip
+    loader = _training_loader(train_sequences, config, cache)
     validation_config = replace(config, window=min(config.window, *map(len, validation)))
-    model = PoseRegressor(config.model).to(device)
-    with torch.no_grad():  # start from the mean training pose
-        poses = np.concatenate([cache.poses(s) for s in train_sequences])
-        model.position.bias.copy_(torch.as_tensor(poses[:, :3, 3].mean(axis=0)))
-        quaternions = rotation_to_quaternion(poses[:, :3, :3])
-        model.rotation.bias.copy_(torch.as_tensor(quaternions.mean(axis=0)))
+    model = _model_at_mean_pose(config, train_sequences, cache, device)
     weighting = LearnedWeighting().to(device) if config.learned_weighting else None
     parameters = list(model.parameters()) + (list(weighting.parameters()) if weighting else [])
     optimiser = torch.optim.Adam(parameters, lr=config.lr, weight_decay=config.weight_decay)
@@ -172,22 +216,7 @@ def _train(
     while epoch < config.epochs:
         if stop_after is not None and epoch - first_epoch >= stop_after:
             break
-        model.train()
-        losses = []
-        for batch in loader:
-            frames = batch[config.image].to(device)
-            position, quaternion = model(frames)
-            true_position = batch["position"].to(device).float()
-            true_quaternion = batch["quaternion"].to(device).float()
-            if weighting is None:
-                loss = pose_loss(position, quaternion, true_position, true_quaternion, config.beta)
-            else:
-                loss = weighting(position, quaternion, true_position, true_quaternion)
-            optimiser.zero_grad()
-            loss.backward()
-            optimiser.step()
-            schedule.step()
-            losses.append(loss.item())
+        losses = _train_epoch(model, weighting, loader, optimiser, schedule, config, device)
         epoch += 1
         pair = predict_poses(model, validation, validation_config, device, cache)
         summary = pose_summary(pair, config.beta)
