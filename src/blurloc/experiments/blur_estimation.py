@@ -21,6 +21,7 @@ from ..blur import (
     blur_features,
     blur_image,
     estimate_motion_blur,
+    shake_path,
     trajectory_kernel,
 )
 from ..data.samples import split_frames
@@ -172,17 +173,47 @@ def photo_training_set(
         scale = max(1.0, side / ANALYSIS_SIDE)
         extent = 0.0
         if rng.random() >= 0.25:
-            length, angle = rng.uniform(0.5, max_length_px) * scale, rng.uniform(0, np.pi)
-            t = np.linspace(-0.5, 0.5, 20)
-            bend = rng.normal(0.0, 0.1)
-            path = length * np.column_stack([t * np.cos(angle), -t * np.sin(angle) + bend * t**2])
-            extent = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
-            image = blur_image(image, trajectory_kernel(path))
-        noisy = image + rng.normal(0.0, rng.choice([0.003, 0.01]), image.shape)
-        found = blur_features(np.round(np.clip(noisy, 0, 1) * 255).astype(np.uint8))
+            image, extent = _blur_along_random_path(image, rng, max_length_px, scale)
+        found = blur_features(_as_camera_frame(image, rng))
         features.append(found.values)
         extents.append(extent / found.scale)
     return np.array(features), np.array(extents)
+
+
+def _blur_along_random_path(
+    image: np.ndarray, rng: np.random.Generator, max_length_px: float, scale: float
+) -> tuple[np.ndarray, float]:
+    """Blur ``image`` along a random path of 0.5 to ``max_length_px`` px at the analysis scale
+    (``scale`` image px each): three times in four a slightly bent line (its length as the
+    extent), else a hand-shake path (:func:`~blurloc.blur.shake_path`, its bounding box's longer
+    side as the extent); returns the image and the extent in image px."""
+    length = rng.uniform(0.5, max_length_px) * scale
+    if rng.random() < 0.75:
+        angle = rng.uniform(0, np.pi)
+        t = np.linspace(-0.5, 0.5, 20)
+        bend = rng.normal(0.0, 0.1)
+        path = length * np.column_stack([t * np.cos(angle), -t * np.sin(angle) + bend * t**2])
+        extent = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
+    else:
+        path, extent = shake_path(length, rng), length
+    return blur_image(image, trajectory_kernel(path)), extent
+
+
+def _as_camera_frame(image: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    r"""An image in [0, 1] as a camera stores it: signal-dependent noise (read σ 0.003 or 0.01,
+    shot variance 0, 1e-4 or 4e-4 times the intensity), 8 bits, and half of the time JPEG at a
+    quality of 70 to 95.
+
+    .. math:: \sigma^2(I) = \sigma_r^2 + k I
+    """
+    variance = rng.choice([0.003, 0.01]) ** 2 + rng.choice([0.0, 1e-4, 4e-4]) * image
+    noisy = image + rng.normal(0.0, 1.0, image.shape) * np.sqrt(variance)
+    frame = np.round(np.clip(noisy, 0, 1) * 255).astype(np.uint8)
+    if rng.random() < 0.5:
+        quality = int(rng.integers(70, 96))
+        _, encoded = cv2.imencode(".jpg", frame, [cv2.IMWRITE_JPEG_QUALITY, quality])
+        frame = cv2.imdecode(encoded, cv2.IMREAD_UNCHANGED)
+    return frame
 
 
 def estimation_rows(
