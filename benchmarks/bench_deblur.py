@@ -1,21 +1,21 @@
 """Deblurring speed and quality on 640x480 frames.
 
     python benchmarks/bench_deblur.py [--images 6] [--kernels 5] [--repeats 15]
-                                      [--quality-size 640 480]
+                                      [--quality-size 640 480] [--out-dir figures]
 
-Prints (1) the time of blind deblurring (detect -> estimate -> Wiener, ``deblur_blind``) of a
-640x480 RGB frame, its parts, and scikit-image's ``wiener`` on the same frame and kernel for
-scale (target for blind deblurring: <= 30 ms on 2 cores; medians over the repeats, with the
-machine's load average printed beside them), and (2) non-blind PSNR of this package's Wiener
-filter (NSR estimated from the noise, not tuned per image) against scikit-image's ``wiener`` at
-its best ``balance`` (swept per trial) and ``unsupervised_wiener``: gray photographs
-(scikit-image's bundled ones, resized to 640x480, or to ``--quality-size``: 255 255 is the size
-of Levin et al.'s test images), each blurred by ``--kernels`` random line kernels and as many
-random camera-shake kernels (:func:`blurloc.blur.shake_path`, shaped like Levin et al.'s
-recorded ones), noise σ = 0.01; per kind, the mean gain over scikit-image with a 95 % bootstrap
-interval over the trials (target: >= +1 dB), and over scikit-image given the same mirror padding
-(:func:`blurloc.experiments.wiener_oracles.skimage_comparison`: then only the regulariser
-differs).
+Measures, prints and writes to ``<out-dir>/bench_deblur.md``/``.csv`` (timings) and
+``bench_deblur-quality.csv`` (quality): (1) the time of blind deblurring (detect -> estimate ->
+Wiener, ``deblur_blind``) of a 640x480 RGB frame, its parts, and scikit-image's ``wiener`` on the
+same frame and kernel for scale (target for blind deblurring: <= 30 ms on 2 cores; medians over the
+repeats, with the machine's load average printed beside them), and (2) non-blind PSNR of this
+package's Wiener filter (NSR estimated from the noise, not tuned per image) against scikit-image's
+``wiener`` at its best ``balance`` (swept per trial) and ``unsupervised_wiener``: gray photographs
+(scikit-image's bundled ones, resized to 640x480, or to ``--quality-size``: 255 255 is the size of
+Levin et al.'s test images), each blurred by ``--kernels`` random line kernels and as many random
+camera-shake kernels (:func:`blurloc.blur.shake_path`, shaped like Levin et al.'s recorded ones),
+noise σ = 0.01; per kind, the mean gain over scikit-image with a 95 % bootstrap interval over the
+trials (target: >= +1 dB), and over scikit-image given the same mirror padding
+(:func:`blurloc.experiments.wiener_oracles.skimage_comparison`: then only the regulariser differs).
 """
 
 from __future__ import annotations
@@ -34,6 +34,7 @@ from blurloc.blur import blur_image, detect_blur, estimate_motion_blur, motion_k
 from blurloc.deconv import deblur_blind, wiener_deconvolve
 from blurloc.experiments.wiener_oracles import KERNEL_KINDS, skimage_comparison
 from blurloc.intervals import paired_interval
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "immunohistochemistry", "hubble_deep_field")
 
@@ -68,6 +69,7 @@ def main() -> None:
         help="size of the photos in the quality part (255 255: Levin et al.'s)",
     )
     parser.add_argument("--repeats", type=int, default=15)
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     rng = np.random.default_rng(0)
 
@@ -89,8 +91,14 @@ def main() -> None:
         f"{estimate.angle_deg:.1f}°), median of {args.repeats}; load average "
         f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores:"
     )
+    load = os.getloadavg()[0]
+    timing_rows = []
     for label, call in timings.items():
-        print(f"  {label:30s} {median_ms(call, args.repeats):6.1f} ms")
+        milliseconds = median_ms(call, args.repeats)
+        print(f"  {label:30s} {milliseconds:6.1f} ms")
+        timing_rows.append({"step": label, "median_ms": round(milliseconds, 2),
+                            "repeats": args.repeats, "load_average": round(load, 2),
+                            "cores": os.cpu_count()})  # fmt: skip
     print("  (target for blind deblurring: <= 30 ms on 2 cores)")
 
     size = tuple(args.quality_size)
@@ -100,6 +108,7 @@ def main() -> None:
         "scikit-image's best balance (mean, 95 % bootstrap interval over the trials):"
     )
     photos = [frame(name, size).mean(axis=2) for name in PHOTOS[: args.images]]
+    quality_rows = []
     for kind, ((low, high), label) in KERNEL_KINDS.items():
         rows = skimage_comparison(photos, [kind], args.kernels, rng, unsupervised=True)
         mean = {key: np.mean([r[key] for r in rows]) for key in rows[0] if key.endswith("_db")}
@@ -115,6 +124,25 @@ def main() -> None:
             f"mirror-padded skimage {padded.mean:+.2f} dB [{padded.low:+.2f}, "
             f"{padded.high:+.2f}]"
         )
+        quality_rows.append({
+            "kernels": label, "length_px": f"{low:.0f}-{high:.0f}", "trials": len(rows),
+            **{key: round(float(value), 3) for key, value in mean.items()},
+            "gain_db": round(gain.mean, 3), "gain_low": round(gain.low, 3),
+            "gain_high": round(gain.high, 3), "share_ahead": round(float(ahead), 3),
+            "gain_over_padded_db": round(padded.mean, 3), "padded_low": round(padded.low, 3),
+            "padded_high": round(padded.high, 3),
+        })  # fmt: skip
+    saved = save_benchmark_tables(
+        "bench_deblur",
+        {"timings": timing_rows, "quality": quality_rows},
+        args.out_dir,
+        "Deblurring speed (640x480 RGB) and non-blind quality against scikit-image",
+        notes=f"Timings: median of {args.repeats} runs after one warm-up, ms per frame. Quality: "
+        f"gray {size[0]}x{size[1]} photos, noise sigma 0.01, PSNR dB means; gains are blurloc "
+        "minus scikit-image's best balance (and minus scikit-image mirror-padded), mean and "
+        "95 % bootstrap interval over the trials.",
+    )
+    print(f"wrote {saved.markdown}")
 
 
 if __name__ == "__main__":
