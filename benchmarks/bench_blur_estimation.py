@@ -1,7 +1,9 @@
 """Blind blur estimation on a stand-in split, against the blur recorded in ``blur.csv``.
 
     python benchmarks/bench_blur_estimation.py --root ROOT [--split test] [--budget N]
+        [--out-dir figures]
     python benchmarks/bench_blur_estimation.py --fit ROOT [ROOT ...] --out MODEL.npz [--budget N]
+        [--out-dir figures]
 
 Prints the estimator's and the detector's measures beside their targets (Spearman of estimated
 length vs recorded extent >= 0.8; median length error <= 1 px for extents >= 2 px; median angle
@@ -21,6 +23,9 @@ R640_S0 --width 640 --height 480 --frames 12 --scenes chess office``) and R640_S
 another seed (``blurloc synth --out R640_S1 --width 640 --height 480 --frames 16 --seed 1``), so
 that the model sees both scales. Its 640x480 check used two more renders made the same way, neither
 fitted on: seed 3 to choose ``blurloc.blur.SINC_AGREEMENT``, seed 2 (``--root R640_S2``) to measure.
+The measures go to ``<out-dir>/bench_blur_estimation.md``/``.csv`` (and
+``bench_blur_estimation-motion.csv``); a fit's counts and threshold to
+``<out-dir>/bench_blur_estimation_fit.md``/``.csv``.
 """
 
 from __future__ import annotations
@@ -45,11 +50,12 @@ from blurloc.experiments.blur_estimation import (
     photo_training_set,
 )
 from blurloc.files import check_output_not_input
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 
-def fit(roots: list[str], budget: int | None, out: Path) -> None:
+def fit(roots: list[str], budget: int | None, out: Path) -> dict:
     """Fit the length model on the training splits of ``roots`` (about ``budget`` frames of
-    each) and write it to ``out``."""
+    each), write it to ``out`` and return the example counts and the detector threshold."""
     from blurloc.blur import fit_length_model
 
     if Path(out).resolve().parent == LENGTH_MODEL_PATH.parent.resolve():
@@ -73,6 +79,14 @@ def fit(roots: list[str], budget: int | None, out: Path) -> None:
         f"{len(photo_extents)} blurred photographs, written to {out}; detector "
         f"threshold {threshold:.2f} px"
     )
+    return {
+        "roots": " ".join(roots),
+        "budget": budget,
+        "training_examples": len(extents),
+        "photo_examples": len(photo_extents),
+        "model": str(out),
+        "detector_threshold_px": round(float(threshold), 3),
+    }
 
 
 def main() -> None:
@@ -89,14 +103,21 @@ def main() -> None:
     parser.add_argument("--no-motion", action="store_true", help="skip the camera-motion check")
     parser.add_argument("--fit", nargs="+", metavar="ROOT", help="fit the length model instead")
     parser.add_argument("--out", type=Path, help="with --fit: the .npz file to write the model to")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     if args.fit:
         if args.out is None:
             parser.error("--fit needs --out (the shipped model is never overwritten)")
         try:
-            fit(args.fit, args.budget, args.out)
+            fitted = fit(args.fit, args.budget, args.out)
         except ValueError as error:
             parser.error(str(error))
+        save_benchmark_tables(
+            "bench_blur_estimation_fit",
+            {"fit": [fitted]},
+            args.out_dir,
+            "Blur length model fit and detector threshold",
+        )
         return
     if not args.root:
         parser.error("--root is required unless --fit is given")
@@ -106,16 +127,30 @@ def main() -> None:
     per_image_ms = (time.perf_counter() - start) / len(rows) * 1000
     print(f"{len(rows)} {args.split} images (frames and their sharp renders) of {args.root}, "
           f"{per_image_ms:.1f} ms per image (estimate + detector score)")  # fmt: skip
-    for row in estimation_summary(rows):
+    summary = estimation_summary(rows)
+    tables = {"measures": [{**row, "ms_per_image": round(per_image_ms, 2)} for row in summary]}
+    for row in summary:
         verdict = "met" if row["met"] else "NOT met"
         print(f"  {row['measure']:48s} {row['value']:8.3f}  target {row['target']:7s} "
               f"({row['frames']} frames) {verdict}")  # fmt: skip
-    if args.no_motion:
-        return
-    print("Spearman against the camera's image-plane motion (estimate / variance of Laplacian):")
-    for row in motion_rank_correlation(args.root, args.split, args.budget):
-        print(f"  {row['scene']:10s} seq {row['sequence']:2d} ({row['frames']:4d} frames): "
-              f"{row['estimate_spearman']:+.3f} / {row['laplacian_spearman']:+.3f}")  # fmt: skip
+    if not args.no_motion:
+        print(
+            "Spearman against the camera's image-plane motion (estimate / variance of Laplacian):"
+        )
+        tables["motion"] = motion_rank_correlation(args.root, args.split, args.budget)
+        for row in tables["motion"]:
+            print(
+                f"  {row['scene']:10s} seq {row['sequence']:2d} ({row['frames']:4d} frames): "
+                f"{row['estimate_spearman']:+.3f} / "
+                f"{row['laplacian_spearman']:+.3f}"
+            )
+    saved = save_benchmark_tables(
+        "bench_blur_estimation",
+        tables,
+        args.out_dir,
+        f"Blind blur estimation on {args.root} ({args.split} split) against the recorded blur",
+    )
+    print(f"wrote {saved.markdown}")
 
 
 if __name__ == "__main__":

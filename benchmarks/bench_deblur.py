@@ -96,9 +96,15 @@ def main() -> None:
     for label, call in timings.items():
         milliseconds = median_ms(call, args.repeats)
         print(f"  {label:30s} {milliseconds:6.1f} ms")
-        timing_rows.append({"step": label, "median_ms": round(milliseconds, 2),
-                            "repeats": args.repeats, "load_average": round(load, 2),
-                            "cores": os.cpu_count()})  # fmt: skip
+        timing_rows.append(
+            {
+                "step": label,
+                "median_ms": round(milliseconds, 2),
+                "repeats": args.repeats,
+                "load_average": round(load, 2),
+                "cores": os.cpu_count(),
+            }
+        )
     print("  (target for blind deblurring: <= 30 ms on 2 cores)")
 
     size = tuple(args.quality_size)
@@ -124,14 +130,21 @@ def main() -> None:
             f"mirror-padded skimage {padded.mean:+.2f} dB [{padded.low:+.2f}, "
             f"{padded.high:+.2f}]"
         )
-        quality_rows.append({
-            "kernels": label, "length_px": f"{low:.0f}-{high:.0f}", "trials": len(rows),
-            **{key: round(float(value), 3) for key, value in mean.items()},
-            "gain_db": round(gain.mean, 3), "gain_low": round(gain.low, 3),
-            "gain_high": round(gain.high, 3), "share_ahead": round(float(ahead), 3),
-            "gain_over_padded_db": round(padded.mean, 3), "padded_low": round(padded.low, 3),
-            "padded_high": round(padded.high, 3),
-        })  # fmt: skip
+        quality_rows.append(
+            {
+                "kernels": label,
+                "length_px": f"{low:.0f}-{high:.0f}",
+                "trials": len(rows),
+                **{key: round(float(value), 3) for key, value in mean.items()},
+                "gain_db": round(gain.mean, 3),
+                "gain_low": round(gain.low, 3),
+                "gain_high": round(gain.high, 3),
+                "share_ahead": round(float(ahead), 3),
+                "gain_over_padded_db": round(padded.mean, 3),
+                "padded_low": round(padded.low, 3),
+                "padded_high": round(padded.high, 3),
+            }
+        )
     saved = save_benchmark_tables(
         "bench_deblur",
         {"timings": timing_rows, "quality": quality_rows},

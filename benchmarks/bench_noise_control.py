@@ -2,7 +2,7 @@
 noise-only control, and the gain on blurred frames by how much blur they carry.
 
     python benchmarks/bench_noise_control.py [--root data/standin] [--frames 250]
-        [--checkpoint PATH]
+        [--checkpoint PATH] [--out-dir figures]
 
 The stand-in's sharp renders are noise-free, so part of any PSNR gain of a network fed the
 blurred (and noisy) frames may be denoising. The control feeds it the sharp render plus the same
@@ -14,7 +14,8 @@ where in the blur distribution the gain is made, and how much of the test split 
 can be gained. Last, where in the spectrum: the squared error split into radial frequency bands
 (``metrics.band_squared_error``), for the blurred input, the control's noisy input (the noise
 alone, so the rest of the blurred input's error in a band is the blur's) and what the network
-removes of each band in both.
+removes of each band in both. Writes ``<out-dir>/bench_noise_control.md``/``.csv`` (the two
+gains) with ``bench_noise_control-by_extent.csv`` and ``bench_noise_control-by_band.csv``.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from blurloc.images import srgb_to_linear, to_uint8
 from blurloc.inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_sequence
 from blurloc.intervals import paired_interval
 from blurloc.metrics import FREQUENCY_BAND_EDGES, band_squared_error, psnr
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 EXTENT_BINS_PX = (0.0, 1.0, 2.0, 4.0, 8.0, np.inf)
 
@@ -43,12 +45,13 @@ def mse_removed(psnr_pairs: np.ndarray) -> np.ndarray:
 
 
 def main() -> None:
-    """Measure and print the two gains and the gain by blur extent."""
+    """Measure, print and write the two gains, the gain by blur extent and by band."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", default="data/standin", help="stand-in root (full render)")
     parser.add_argument("--frames", type=int, default=250, help="frames per test sequence")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--checkpoint", default=DEFAULT_CHECKPOINT, help="video network")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     torch.set_num_threads(2)
     network = load_video_deblur(args.checkpoint)
@@ -87,6 +90,18 @@ def main() -> None:
         ("noisy sharp, restored", control[:, 1]),
     ):
         print(f"  {name:<24} {values.mean():6.2f}")
+    gains = [
+        {
+            "input": name,
+            "frames": len(pairs),
+            "input_psnr_db": round(pairs[:, 0].mean(), 3),
+            "restored_psnr_db": round(pairs[:, 1].mean(), 3),
+            "gain_db": round((pairs[:, 1] - pairs[:, 0]).mean(), 3),
+            "mse_removed": round(mse_removed(pairs).mean(), 3),
+        }
+        for name, pairs in (("blurred", table[:, 1:]), ("noisy sharp (control)", control))
+    ]
+    extent_rows = []
     print(f"  gain on blurred frames     {(table[:, 2] - table[:, 1]).mean():+.2f} dB")
     print(f"  gain on noise only         {(control[:, 1] - control[:, 0]).mean():+.2f} dB")
     removed = mse_removed(control)
@@ -102,6 +117,19 @@ def main() -> None:
             print(f"  {low:4.0f}-{high:<4.0f} px  {len(inside)} frames: left out")
             continue
         gain = paired_interval(inside[:, 2] - inside[:, 1])
+        extent_rows.append(
+            {
+                "extent_px": f"{low:.0f}-{high:.0f}",
+                "frames": len(inside),
+                "share": round(len(inside) / len(table), 4),
+                "blurred_psnr_db": round(inside[:, 1].mean(), 3),
+                "restored_psnr_db": round(inside[:, 2].mean(), 3),
+                "gain_db": round(gain.mean, 3),
+                "gain_low": round(gain.low, 3),
+                "gain_high": round(gain.high, 3),
+                "mse_removed": round(mse_removed(inside[:, 1:]).mean(), 3),
+            }
+        )
         print(
             f"  {low:4.0f}-{high:<4.0f} px  {len(inside) / len(table):6.1%}  "
             f"{inside[:, 1].mean():6.2f} -> {inside[:, 2].mean():6.2f}  "
@@ -112,12 +140,22 @@ def main() -> None:
         f"  noise-only control: MSE removed {removed.mean():6.2f} (what denoising alone "
         "removes; a blur bin removing more is also deblurring)"
     )
-    print_bands(bands)
+    saved = save_benchmark_tables(
+        "bench_noise_control",
+        {"gains": gains, "by extent": extent_rows, "by band": print_bands(bands)},
+        args.out_dir,
+        f"Video network: gain on blurred frames and on a noise-only control ({args.root}, "
+        f"first {args.frames} frames of every test sequence)",
+        notes="PSNR against the sharp renders; gain intervals: 95 % bootstrap over the frames "
+        "(frames of one sequence are not independent: a lower bound on the width); "
+        "mse_removed in 8-bit units^2, mean over the frames; bands: shares of the squared error.",
+    )
+    print(f"wrote {saved.markdown}")
 
 
-def print_bands(bands: np.ndarray) -> None:
-    """Print the squared error by frequency band: (4, K) sums of the blurred input, its
-    restoration, the control's input and its restoration (rows of ``bands``)."""
+def print_bands(bands: np.ndarray) -> list[dict]:
+    """Print and return the squared error by frequency band: (4, K) sums of the blurred input,
+    its restoration, the control's input and its restoration (rows of ``bands``)."""
     blurred_in, blurred_out, control_in, control_out = bands
     print(
         "\nsquared error by spatial frequency (cycles per pixel; all frames and channels, "
@@ -126,8 +164,18 @@ def print_bands(bands: np.ndarray) -> None:
         "band's error the network removes, on blurred frames and on the noise-only control"
     )
     print("  band            share   noise part   removed (blurred)   removed (noise only)")
+    rows = []
     for k, (low, high) in enumerate(itertools.pairwise(FREQUENCY_BAND_EDGES)):
         label = f"{low:.3f}-{high:.3f}" if np.isfinite(high) else f">= {low:.3f}"
+        rows.append(
+            {
+                "band_cycles_per_px": label,
+                "share": round(blurred_in[k] / blurred_in.sum(), 4),
+                "noise_part": round(control_in[k] / blurred_in[k], 4),
+                "removed_blurred": round(1 - blurred_out[k] / blurred_in[k], 4),
+                "removed_noise_only": round(1 - control_out[k] / control_in[k], 4),
+            }
+        )
         print(
             f"  {label:<14} {blurred_in[k] / blurred_in.sum():6.1%}   "
             f"{control_in[k] / blurred_in[k]:9.1%}   {1 - blurred_out[k] / blurred_in[k]:16.1%}"
@@ -141,6 +189,7 @@ def print_bands(bands: np.ndarray) -> None:
             f"  all bands, {name}: {10 * np.log10(before.sum() / after.sum()):+.2f} dB (MSE of "
             "all frames together)"
         )
+    return rows
 
 
 if __name__ == "__main__":

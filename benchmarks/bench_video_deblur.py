@@ -56,9 +56,15 @@ def main() -> None:
     speed_rows, photo_rows, noise_rows = [], [], []
     for name, model in (("full network (checkpoint)", full), ("single-frame baseline", single)):
         fps = frames_per_second(model, video)
-        speed_rows.append({"network": name, "parameters": parameter_count(model),
-                           "frames_per_s": round(fps, 2), "threads": args.threads,
-                           "frames": args.frames})  # fmt: skip
+        speed_rows.append(
+            {
+                "network": name,
+                "parameters": parameter_count(model),
+                "frames_per_s": round(fps, 2),
+                "threads": args.threads,
+                "frames": args.frames,
+            }
+        )
         print(
             f"{name}: {parameter_count(model):,} parameters, {fps:.1f} frames/s at 160x120 "
             f"on {args.threads} threads (target >= 25)"
@@ -82,12 +88,20 @@ def main() -> None:
             f"{np.mean(gains):+.2f} dB (must not be worse than the input); by pan speed "
             f"{PHOTO_VIDEO_SPEEDS} px per sub-frame: {by_speed}"
         )
-        noise_rows.append({"noise_sigma": noise, "videos": len(rows),
-                           "gain_min_db": round(min(gains), 3),
-                           "gain_mean_db": round(float(np.mean(gains)), 3),
-                           **{f"gain_step_{step}px_db": round(float(np.mean(
-                               [r["gain_db"] for r in rows if r["step_px"] == step])), 3)
-                              for step in PHOTO_VIDEO_SPEEDS}})  # fmt: skip
+        noise_rows.append(
+            {
+                "noise_sigma": noise,
+                "videos": len(rows),
+                "gain_min_db": round(min(gains), 3),
+                "gain_mean_db": round(float(np.mean(gains)), 3),
+                **{
+                    f"gain_step_{step}px_db": round(
+                        float(np.mean([r["gain_db"] for r in rows if r["step_px"] == step])), 3
+                    )
+                    for step in PHOTO_VIDEO_SPEEDS
+                },
+            }
+        )
     saved = save_benchmark_tables(
         "bench_video_deblur",
         {"throughput": speed_rows, "photo videos": photo_rows, "by noise": noise_rows},

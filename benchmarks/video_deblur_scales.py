@@ -62,20 +62,32 @@ def main() -> None:
                     lambda video: restore_sequence(model, video), small_blurred, small_sharp
                 )
                 gains[width].append(after - before)
-                sequence_rows.append({"scene": scene, "sequence": sequence.number,
-                                      "width": width, "median_blur_px": round(blur * width, 2),
-                                      "blurred_psnr_db": round(before, 3),
-                                      "restored_psnr_db": round(after, 3),
-                                      "gain_db": round(after - before, 3)})  # fmt: skip
+                sequence_rows.append(
+                    {
+                        "scene": scene,
+                        "sequence": sequence.number,
+                        "width": width,
+                        "median_blur_px": round(blur * width, 2),
+                        "blurred_psnr_db": round(before, 3),
+                        "restored_psnr_db": round(after, 3),
+                        "gain_db": round(after - before, 3),
+                    }
+                )
                 print(f"{scene} sequence {sequence.number}, {width}x{3 * width // 4}: median blur "
                       f"{blur * width:.1f} px, {before:.2f} -> {after:.2f} dB "
                       f"({after - before:+.2f})")  # fmt: skip
     width_rows = []
     for width, values in gains.items():
-        width_rows.append({"width": width, "height": 3 * width // 4, "sequences": len(values),
-                           "gain_mean_db": round(float(np.mean(values)), 3),
-                           "gain_min_db": round(min(values), 3),
-                           "gain_max_db": round(max(values), 3)})  # fmt: skip
+        width_rows.append(
+            {
+                "width": width,
+                "height": 3 * width // 4,
+                "sequences": len(values),
+                "gain_mean_db": round(float(np.mean(values)), 3),
+                "gain_min_db": round(min(values), 3),
+                "gain_max_db": round(max(values), 3),
+            }
+        )
         print(
             f"{width}x{3 * width // 4}: gain mean {np.mean(values):+.2f} dB, min "
             f"{min(values):+.2f}, max {max(values):+.2f} over {len(values)} sequences"
