@@ -3,6 +3,7 @@ projected time of the full stand-in.
 
     python benchmarks/bench_synth.py [--frames 20] [--workers 2] [--width 160 --height 120]
                                      [--repeats 2] [--synth-frames 100] [--skip-synth]
+                                     [--out-dir figures]
 
 1. The same frames (the first ``--frames`` of one sequence of every scene, blurred as the
    stand-in makes them: every sub-exposure sample rendered and averaged) are rendered with the
@@ -14,42 +15,9 @@ projected time of the full stand-in.
    projected time of the full default stand-in and of 7-Scenes' 43,000 frames at 160x120
    (target: <= 10 minutes on 2 cores), and the time of the quick stand-in (target: <= 20 s).
 
-Measured 2026-11-23 on the project's shared 2-core machine while other jobs ran beside it
-(load average 4-5), so wall-clock rates and projections vary from run to run; CPU times vary
-less. ``PYTHONPATH=src python benchmarks/bench_synth.py``::
-
-    same 130 blurred frames (160x120, first 20 of a sequence per scene), 2 worker(s), best of 2:
-      reference ray cast   12.84 frames/s     74.8 ms CPU/frame
-      fast renderer        70.75 frames/s     14.4 ms CPU/frame
-      ratio 5.5x (frames/s), 5.2x (CPU time)
-    synthesize: 1300 frames (160x120, 14 sequences, PNGs written), 2 worker(s):
-      43.5 s, 29.9 frames/s
-      full default stand-in (4300 frames): 2.4 min
-      43000 frames: 24.0 min (target <= 10 min on 2 cores)
-    one sequence in this process: 19.5 ms CPU/frame (PNGs written)
-      43000 frames on 2 free cores: 7.0 min
-    quick stand-in: 5.4 s (target <= 20 s)
-
-An earlier run on a quieter machine (load ~2) gave 23.3 vs 133.3 frames/s (5.7x; 72.0 vs
-13.9 ms CPU/frame), synthesize 78.2 frames/s (43,000 frames: 9.2 min) and 18.1 ms CPU/frame
-in one process (6.5 min on 2 free cores); the quick stand-in took 3.0 s.
-
-At 640x480 (``--width 640 --height 480 --frames 3 --skip-synth``; frames blur 4x more pixels,
-so they average about 4x more sub-exposure renders)::
-
-    same 20 blurred frames (640x480, first 3 of a sequence per scene), 2 worker(s), best of 2:
-      reference ray cast    0.32 frames/s   2864.6 ms CPU/frame
-      fast renderer         1.42 frames/s    646.4 ms CPU/frame
-      ratio 4.5x (frames/s), 4.4x (CPU time)
-
-Before the fast renderer (format 4, commit 4e89d5c), this benchmark's earlier version
-(``python benchmarks/bench_synth.py --frames 20 --workers 2``, which timed ``synthesize`` only)
-printed::
-
-    rendered 260 frames (160x120, 14 sequences) in 28.4 s with 2 worker(s)
-    frames per second: 9.1 in all, 4.6 per worker
-    full default stand-in: 4300 frames, projected 7.8 min (target <= 10 min on 2 cores)
-    quick stand-in: 15.9 s (target <= 20 s)
+Wall-clock rates and projections depend on the machine's load (other jobs beside it); CPU times
+vary less. Writes ``<out-dir>/bench_synth.md``/``.csv`` (the side-by-side renderers) and, unless
+``--skip-synth``, ``bench_synth-synthesize.csv`` (part 2).
 """
 
 from __future__ import annotations
@@ -76,6 +44,7 @@ from blurloc.data.synth import (
     synthesize,
 )
 from blurloc.geometry import intrinsics
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 SEVEN_SCENES_FRAMES = 43_000
 
@@ -127,6 +96,7 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=2, help="timings of each renderer")
     parser.add_argument("--synth-frames", type=int, default=100, help="per sequence, part 2")
     parser.add_argument("--skip-synth", action="store_true", help="only the side-by-side part")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
 
     config = replace(
@@ -149,23 +119,51 @@ def main() -> None:
         f"  ratio {rates[paths[1]] / rates[paths[0]]:.1f}x (frames/s), "
         f"{cpu[paths[0]] / cpu[paths[1]]:.1f}x (CPU time)"
     )
-    if args.skip_synth:
-        return
+    tables = {
+        "renderers": [
+            {
+                "renderer": name,
+                "width": args.width,
+                "height": args.height,
+                "frames": compared,
+                "workers": args.workers,
+                "best_of": args.repeats,
+                "frames_per_s": round(rates[name], 3),
+                "cpu_ms_per_frame": round(1000 * cpu[name], 2),
+            }
+            for name in paths
+        ]
+    }
+    if not args.skip_synth:
+        tables["synthesize"] = time_synthesize(args.synth_frames, args.workers)
+    saved = save_benchmark_tables(
+        "bench_synth",
+        tables,
+        args.out_dir,
+        "Rendering speed of the stand-in",
+        notes=f"Load average at the end {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores.",
+    )
+    print(f"wrote {saved.markdown}")
+
+
+def time_synthesize(synth_frames: int, workers: int) -> list[dict]:
+    """Time ``synthesize`` on 2 sequences of ``synth_frames`` frames per scene, the quick
+    stand-in, and one sequence in this process; print and return the projections."""
 
     full = SynthConfig()
     counts = {name: (1, 1) for name in SCENE_NAMES}
-    sample = replace(full, frames_per_sequence=args.synth_frames, sequence_counts=counts)
+    sample = replace(full, frames_per_sequence=synth_frames, sequence_counts=counts)
     total_sample = sum(2 * sample.frames_for(name) for name in SCENE_NAMES)
     total_full = sum(sum(full.sequence_counts[n]) * full.frames_for(n) for n in SCENE_NAMES)
     with tempfile.TemporaryDirectory() as folder:
         start = time.perf_counter()
-        synthesize(folder, config=sample, workers=args.workers, progress=False)
+        synthesize(folder, config=sample, workers=workers, progress=False)
         seconds = time.perf_counter() - start
         start = time.perf_counter()
         synthesize(
             os.path.join(folder, "quick"),
             config=SynthConfig.quick(),
-            workers=args.workers,
+            workers=workers,
             progress=False,
         )
         quick_seconds = time.perf_counter() - start
@@ -175,7 +173,7 @@ def main() -> None:
     rate = total_sample / seconds
     print(
         f"synthesize: {total_sample} frames ({full.width}x{full.height}, 14 sequences, PNGs "
-        f"written), {args.workers} worker(s):\n  {seconds:.1f} s, {rate:.1f} frames/s"
+        f"written), {workers} worker(s):\n  {seconds:.1f} s, {rate:.1f} frames/s"
     )
     print(f"  full default stand-in ({total_full} frames): {total_full / rate / 60:.1f} min")
     print(
@@ -184,10 +182,32 @@ def main() -> None:
     )
     print(f"one sequence in this process: {1000 * frame_cpu:.1f} ms CPU/frame (PNGs written)")
     print(
-        f"  {SEVEN_SCENES_FRAMES} frames on {args.workers} free cores: "
-        f"{SEVEN_SCENES_FRAMES * frame_cpu / args.workers / 60:.1f} min"
+        f"  {SEVEN_SCENES_FRAMES} frames on {workers} free cores: "
+        f"{SEVEN_SCENES_FRAMES * frame_cpu / workers / 60:.1f} min"
     )
     print(f"quick stand-in: {quick_seconds:.1f} s (target <= 20 s)")
+    return [
+        {"quantity": "synthesize frames", "value": total_sample},
+        {"quantity": "synthesize seconds", "value": round(seconds, 2)},
+        {"quantity": "synthesize frames/s", "value": round(rate, 2)},
+        {
+            "quantity": f"full default stand-in ({total_full} frames), min",
+            "value": round(total_full / rate / 60, 2),
+        },
+        {
+            "quantity": f"{SEVEN_SCENES_FRAMES} frames, min (target <= 10 on 2 cores)",
+            "value": round(SEVEN_SCENES_FRAMES / rate / 60, 2),
+        },
+        {
+            "quantity": "one sequence in this process, ms CPU/frame",
+            "value": round(1000 * frame_cpu, 2),
+        },
+        {
+            "quantity": f"{SEVEN_SCENES_FRAMES} frames on {workers} free cores, min",
+            "value": round(SEVEN_SCENES_FRAMES * frame_cpu / workers / 60, 2),
+        },
+        {"quantity": "quick stand-in, s (target <= 20)", "value": round(quick_seconds, 2)},
+    ]
 
 
 if __name__ == "__main__":
