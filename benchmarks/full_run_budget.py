@@ -2,6 +2,7 @@
 how many the run makes, beside the stage times of the last full run.
 
     python benchmarks/full_run_budget.py [--data data/standin] [--out build/full_run_budget]
+        [--out-dir figures]
 
 Each unit is timed with the notebooks' own functions and settings, two one-thread worker
 processes at once, as the run does (about 7 minutes on 2 cores):
@@ -21,30 +22,8 @@ smallest run the method's comparisons need (3 seeds per video ablation, the mini
 t-interval; 3 seeds per blur strength in the dose-response; the pose matrix unchanged: 7
 scenes x 5 seeds x 5 inputs and heads). Target: 90 minutes on 2 cores.
 
-Measured 2026-12-03 on a 2-core machine that rendered the whole stand-in in 606 s (7 min 8 s)::
-
-    render: 62.0 frames/s
-    ablation training: 133 s (two at a time)
-    scoring one network: 22 s
-    network copy: 87.4 frames/s
-    Wiener copy: 294.4 frames/s
-    pose training: 13.0 s (two at a time)
-
-    stage                           last full run  projected here  smallest run
-    render                                    988             694           694
-    ablation trainings                       2740            2654          1592
-    ablation scoring                          364             440           264
-    Wiener copy                               195             146           146
-    network copy                              834             492           492
-    notebook 03, the rest                     320             320           320
-    pose matrix (notebook 04)                2778            2279          2279
-    dose-response (notebook 06)               950             852           644
-    notebooks 00-02 and 05                    387             387           387
-    total, minutes                          159.3           137.7         113.6   (target 90)
-
-A second run on the same machine a quarter of an hour later: render 63.8 frames/s, ablation training
-141 s, scoring 24 s, network copy 64.2 frames/s, Wiener copy 190.2 frames/s, pose training
-15.5 s; totals 154.3 and 128.3 minutes.
+Writes ``<out-dir>/full_run_budget.md``/``.csv`` (seconds per stage: the last full run's, the
+projection here, the smallest run's) and ``full_run_budget-units.csv`` (the timed units).
 """
 
 from __future__ import annotations
@@ -61,6 +40,7 @@ from blurloc.experiments.pose import run_pose_matrix
 from blurloc.experiments.video import wiener_sequence, write_deblurred_root
 from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
 from blurloc.models.video_deblur import VideoDeblurConfig
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.train.config import PoseTrainConfig, VideoTrainConfig
 
 #: Stage times (s) of the last full run (docs/reproduction.md, "Full reproduction: time per
@@ -149,6 +129,7 @@ def main() -> None:
                         help="the rendered stand-in (blurloc synth --out DIR)")  # fmt: skip
     parser.add_argument("--out", type=Path, default=Path("build/full_run_budget"),
                         help="scratch folder (emptied first)")  # fmt: skip
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     if not (args.data / "heads").is_dir() or not (args.data / "chess").is_dir():
         raise SystemExit(f"{args.data}: not a rendered stand-in (run blurloc synth --out DIR)")
@@ -161,6 +142,35 @@ def main() -> None:
     totals = [sum(REFERENCE.values()), sum(as_run.values()), sum(smallest.values())]
     print(f"{'total, minutes':30s} {totals[0] / 60:14.1f} {totals[1] / 60:15.1f} "
           f"{totals[2] / 60:13.1f}   (target 90)")  # fmt: skip
+    stages = [
+        {
+            "stage": stage,
+            "last_full_run_s": round(reference),
+            "projected_here_s": round(as_run[stage]),
+            "smallest_run_s": round(smallest[stage]),
+        }
+        for stage, reference in REFERENCE.items()
+    ]
+    stages.append(
+        {
+            "stage": "total, minutes (target 90)",
+            "last_full_run_s": round(totals[0] / 60, 1),
+            "projected_here_s": round(totals[1] / 60, 1),
+            "smallest_run_s": round(totals[2] / 60, 1),
+        }
+    )
+    saved = save_benchmark_tables(
+        "full_run_budget",
+        {
+            "stages": stages,
+            "units": [{"unit": unit, "seconds": round(value, 4)} for unit, value in units.items()],
+        },
+        args.out_dir,
+        "Projected time of a full make reproduce on this machine",
+        notes="Seconds per stage (the last row in minutes); units: seconds per rendered or copied "
+        "frame, per ablation training, per network scored, per pose training.",
+    )
+    print(f"wrote {saved.markdown}")
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 and one fitted to each frame's own blur (an oracle that reads the sharp render).
 
     python benchmarks/linear_deblur_bounds.py --root data/standin-noise0 [--size 9]
-        [--frames 100] [--every 5]
+        [--frames 100] [--every 5] [--out-dir figures]
 
 For a stand-in rendered without sensor noise (``blurloc synth --noise 0``, see
 ``train_without_noise.py``) the blurred frames differ from their sharp renders by the blur
@@ -20,7 +20,8 @@ plus an offset) map a blurred frame to its sharp render:
 
 Both are scored on the bottom half of every ``--every``-th of the first ``--frames`` frames of
 every test sequence (frames equal to their sharp render are left out), as the PSNR gain over
-the blurred input on those pixels; printed: the mean, median and 10th-90th percentiles.
+the blurred input on those pixels; printed and written to ``<out-dir>/linear_deblur_bounds.md``/
+``.csv``: the mean, median and 10th-90th percentiles.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 
 from blurloc.data import SequenceFrames, list_scenes, load_split
 from blurloc.metrics import psnr
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 
 def neighbourhoods(frame: np.ndarray, size: int) -> np.ndarray:
@@ -90,12 +92,24 @@ def filter_gains(
     return gains
 
 
-def print_gains(gains: dict[str, list[float]]) -> None:
-    """The mean, median and 10th-90th percentiles of each filter's gains."""
+def print_gains(gains: dict[str, list[float]]) -> list[dict]:
+    """Print and return the mean, median and 10th-90th percentiles of each filter's gains."""
+    rows = []
     for name, values in gains.items():
         low, middle, high = np.percentile(values, [10, 50, 90])
         print(f"  {name:9s} mean {np.mean(values):+.2f} dB, median {middle:+.2f}, "
               f"10th-90th percentile {low:+.2f} to {high:+.2f}")  # fmt: skip
+        rows.append(
+            {
+                "filter": name,
+                "frames": len(values),
+                "mean_gain_db": round(float(np.mean(values)), 3),
+                "median_gain_db": round(float(middle), 3),
+                "p10_db": round(float(low), 3),
+                "p90_db": round(float(high), 3),
+            }
+        )
+    return rows
 
 
 def main() -> None:
@@ -104,6 +118,7 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=9, help="filter size, px (odd)")
     parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
     parser.add_argument("--every", type=int, default=5, help="score every n-th of them")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     scenes = list_scenes(args.root)
     training = (pair for scene in scenes for sequence in load_split(args.root, scene, "train")
@@ -114,7 +129,14 @@ def main() -> None:
     gains = filter_gains(test, global_filter, args.size)
     print(f"{args.root}: {args.size} x {args.size} linear filters, bottom halves of "
           f"{len(gains['global'])} test frames; PSNR gain over the blurred input:")  # fmt: skip
-    print_gains(gains)
+    saved = save_benchmark_tables(
+        "linear_deblur_bounds",
+        {"gains": print_gains(gains)},
+        args.out_dir,
+        f"Linear deblurring bounds on {args.root}: {args.size} x {args.size} filters",
+        notes="PSNR gain (dB) over the blurred input on the bottom halves of the test frames.",
+    )
+    print(f"wrote {saved.markdown}")
 
 
 def frame_pairs(sequence: SequenceFrames, every: int) -> Iterable[tuple[np.ndarray, np.ndarray]]:
