@@ -5,7 +5,7 @@ renders of one stand-in that differ only in the sensor noise.
     blurloc synth --out data/standin-noise0.01 --frames 200 --noise 0.01
     python benchmarks/train_without_noise.py --clean-root data/standin-noise0 \
         --noisy-root data/standin-noise0.01 [--seeds 0 1 2 3] [--steps 1200] [--frames 100] \
-        [--out build/noise_free] [--workers 2]
+        [--out build/noise_free] [--workers 2] [--out-dir figures]
 
 Both renders use the same seed, so they hold the same scenes, camera paths and sharp frames;
 the blurred frames differ only in the Gaussian sensor noise (sigma 0.01 on [0, 1] intensities,
@@ -22,7 +22,10 @@ blurred input per seed and test render, the paired difference ``clean - noisy`` 
 t-interval on each (:func:`blurloc.experiments.video_ablation.ablation_intervals`), and how the
 noisy-trained network's output on the noisy frames compares with the noise-free blurred frames:
 a network that also deblurs ends above them; one that only denoises cannot.
-Finished trainings in ``--out`` are reused; one made with other settings is refused.
+Finished trainings in ``--out`` are reused; one made with other settings is refused. The tables go
+to ``<out-dir>/train_without_noise.md`` with one CSV each: ``train_without_noise.csv`` (intervals
+on the clean test frames), ``train_without_noise-noisy_test.csv`` and
+``train_without_noise-versus_noise-free_input.csv``.
 """
 
 from __future__ import annotations
@@ -42,7 +45,7 @@ from blurloc.experiments.video_ablation import (
 )
 from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
 from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, parameter_count
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.train.config import VideoTrainConfig
 
 
@@ -55,6 +58,7 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
     parser.add_argument("--out", default="build/noise_free")
     parser.add_argument("--workers", type=int, default=2, help="processes that train at once")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     if len(args.seeds) < 2:
         parser.error("--seeds: at least two, for a paired interval")
@@ -75,6 +79,7 @@ def main() -> None:
              for test, test_rows in rows.items()}  # fmt: skip
     print(f"{len(unblurred)} test frames left out: without noise they equal their sharp render "
           f"(no motion in the exposure), so their PSNR is infinite")  # fmt: skip
+    tables = {}
     for test, root in roots.items():
         gains = {name: {run.seed: means[test][f"{name}-seed{run.seed}"] - means[test]["blurred"]
                         for run in runs if run.variant == name} for name in roots}  # fmt: skip
@@ -88,21 +93,40 @@ def main() -> None:
         intervals = ablation_intervals(gains, parameters, reference="noisy",
                                        below="below the noisy-trained network",
                                        above="above the noisy-trained network")  # fmt: skip
-        table = [{key: round(value, 3) if isinstance(value, float) else value
-                  for key, value in row.items()} for row in intervals]  # fmt: skip
-        markdown, _ = save_table(table, args.out, f"noise_free_{test}_test", INTERVAL_COLUMNS,
-                                 caption=f"Gains on the {test} test frames (measured)")  # fmt: skip
-        print(markdown.read_text())
+        tables[f"{test} test"] = [
+            {
+                key: round(row[key], 3) if isinstance(row.get(key), float) else row.get(key, "")
+                for key in INTERVAL_COLUMNS
+            }
+            for row in intervals
+        ]
     print(f"({seconds:.0f} s of training; steps {args.steps}, seeds {args.seeds}, first "
           f"{args.frames} frames of every test sequence)")  # fmt: skip
     print(
         "restored noisy frames minus the noise-free blurred frames (the same frames without "
         "noise), dB:"
     )
-    for name in ["shipped", *(f"{run.variant}-seed{run.seed}" for run in runs)]:
-        print(f"  {name:14s} {means['noisy'][name] - means['clean']['blurred']:+.2f}")
-    print(f"  (the noisy blurred input itself: "
-          f"{means['noisy']['blurred'] - means['clean']['blurred']:+.2f})")  # fmt: skip
+    versus = []
+    for name in ["shipped", *(f"{run.variant}-seed{run.seed}" for run in runs), "blurred"]:
+        difference = means["noisy"][name] - means["clean"]["blurred"]
+        versus.append(
+            {"network": name, "noisy_output_minus_clean_blurred_db": round(difference, 3)}
+        )
+        if name != "blurred":
+            print(f"  {name:14s} {difference:+.2f}")
+    print(f"  (the noisy blurred input itself: {difference:+.2f})")
+    tables["versus noise-free input"] = versus
+    saved = save_benchmark_tables(
+        "train_without_noise",
+        tables,
+        args.out_dir,
+        "Video network trained with and without sensor noise: gains on both renders",
+        notes=f"{seconds:.0f} s of training; steps {args.steps}, seeds {args.seeds}, first "
+        f"{args.frames} frames of every test sequence; {len(unblurred)} frames without motion "
+        "left out. Intervals: 95 % t-intervals over the seeds, paired against the "
+        "noisy-trained network.",
+    )
+    print(saved.markdown.read_text())
 
 
 def score(root: str, runs: list, frames: int, workers: int) -> list[dict]:
