@@ -1,7 +1,7 @@
 """Folder deblurring speed: ms per 640x480 RGB frame, reading and writing included.
 
     python benchmarks/bench_deblur_folder.py [--frames 120] [--folder DIR] [--workers N]
-                                             [--out figures]
+                                             [--out-dir figures]
 
 Makes ``--frames`` 640x480 RGB PNG frames from scikit-image's bundled photographs, each blurred
 by a known line kernel (5-25 px, a different angle per frame) with noise σ = 2/255, in a
@@ -21,7 +21,7 @@ to the last written file, divided by the number of frames):
 Blind deblurring passes frames through where restoring them is not expected to gain (the gate
 of :func:`blurloc.deconv.blind_restoration_expected_to_gain`), and a passed-through frame costs
 less than a restored one; the table says how many of the frames were restored. Writes
-``<out>/bench_deblur_folder.md`` and ``.csv`` with the command, the date, the cores and
+``<out-dir>/bench_deblur_folder.md`` and ``.csv`` with the command, the date, the cores and
 the load average before and after: on a machine shared with other work the wall-clock times are
 noisy, so read them with the load average and with the CPU time of the one-process runs (the
 work per frame; a pool of N idle cores needs about that divided by N).
@@ -30,9 +30,7 @@ work per frame; a pool of N idle cores needs about that divided by N).
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
-import sys
 import tempfile
 import time
 from collections.abc import Callable
@@ -43,8 +41,7 @@ import numpy as np
 
 from blurloc.batch_deblur import available_cores, deblur_file, deblur_files
 from blurloc.blur import blur_image, motion_kernel
-from blurloc.config import write_rows
-from blurloc.files import atomic_path
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "immunohistochemistry", "hubble_deep_field")
 TARGET_MS = 30.0
@@ -92,7 +89,7 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=120)
     parser.add_argument("--folder", type=Path, help="time these *.color.png frames instead")
     parser.add_argument("--workers", type=int, default=available_cores())
-    parser.add_argument("--out", default="figures")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     load_before = os.getloadavg()
     with tempfile.TemporaryDirectory() as scratch:
@@ -134,36 +131,32 @@ def main() -> None:
             f"{row['method']:<46} {row['ms_per_frame']:7.1f} ms/frame (CPU "
             f"{row['cpu_ms_per_frame'] or 'n/a'})"
         )
-    command = "python " + " ".join([Path(sys.argv[0]).as_posix(), *sys.argv[1:]])
-    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     source_name = args.folder or "line-blurred photographs"
     context = (f"{len(frames)} frames ({source_name}), {restored} restored by blind deblurring, "
                f"{available_cores()} cores available, "
                f"load average {load_before[0]:.2f} before, {load_after[0]:.2f} after")  # fmt: skip
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    write_rows([{**row, "frames": len(frames), "restored": restored, "cores": available_cores(),
-                 "load_before": round(load_before[0], 2), "load_after": round(load_after[0], 2),
-                 "date": date, "command": command} for row in rows],
-               out / "bench_deblur_folder.csv")  # fmt: skip
-    lines = [
-        "# Folder deblurring: ms per 640x480 RGB frame, reading and writing included",
-        "",
-        f"Command: `{command}` ({date}). {context}. Target: <= {TARGET_MS:g} ms per frame for "
-        "the package's folder deblurring. Wall-clock times on a shared machine are noisy: read "
-        "them with the load average.",
-        "",
-        "| method | ms per frame (wall) | CPU ms per frame (this process) |",
-        "| --- | ---: | ---: |",
-        *(
-            f"| {row['method']} | {row['ms_per_frame']:.1f} | {row['cpu_ms_per_frame'] or 'n/a'} |"
-            for row in rows
-        ),
-        "",
-    ]
-    with atomic_path(out / "bench_deblur_folder.md") as temporary:
-        temporary.write_text("\n".join(lines))
-    print(f"wrote {out / 'bench_deblur_folder.md'} and .csv ({context})")
+    saved = save_benchmark_tables(
+        "bench_deblur_folder",
+        {
+            "times": [
+                {
+                    **row,
+                    "frames": len(frames),
+                    "restored": restored,
+                    "cores": available_cores(),
+                    "load_before": round(load_before[0], 2),
+                    "load_after": round(load_after[0], 2),
+                }
+                for row in rows
+            ]
+        },
+        args.out_dir,
+        "Folder deblurring: ms per 640x480 RGB frame, reading and writing included",
+        notes=f"{context}. Target: <= {TARGET_MS:g} ms per frame for the package's folder "
+        "deblurring. Wall-clock times on a shared machine are noisy: read them with the load "
+        "average. cpu_ms_per_frame: this process's CPU time (empty for the pool).",
+    )
+    print(f"wrote {saved.markdown} and {saved.csv.name} ({context})")
 
 
 if __name__ == "__main__":
