@@ -3,7 +3,7 @@ seeds, scored on the stand-in's test sequences, with the paired difference to th
 
     python benchmarks/ablate_video_deblur.py --root data/standin [--variants full half_resolution]
         [--seeds 0 1 2] [--steps 400 [1600]] [--frames 100] [--out build/video_ablation]
-        [--workers 2]
+        [--workers 2] [--out-dir figures]
 
 Each variant is trained like notebook 03's ablations (``VideoTrainConfig`` with
 ``--steps`` optimiser steps, on the first 250 frames of every training sequence, validated
@@ -27,6 +27,9 @@ recurrent states follow the image: moved by the frame-to-frame translation,
 ``VideoDeblurConfig(align=True)``; no extra parameters) and ``unbounded`` (the full network
 without the tanh on its hidden and auxiliary states, ``VideoDeblurConfig(bounded_state=False)``:
 the default until the shipped checkpoint was trained with bounded states; no extra parameters).
+Trainings are kept in ``--out``; the tables go to ``<out-dir>/ablate_video_deblur.md`` with one CSV
+each: ``ablate_video_deblur.csv`` (the intervals), ``ablate_video_deblur-per_seed.csv`` and
+``ablate_video_deblur-runs.csv`` (best step, largest state).
 """
 
 from __future__ import annotations
@@ -54,7 +57,7 @@ from blurloc.models.video_deblur import (
     frame_translation,
     parameter_count,
 )
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.train.config import VideoTrainConfig
 
 VARIANTS = {
@@ -109,6 +112,7 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
     parser.add_argument("--out", default="build/video_ablation")
     parser.add_argument("--workers", type=int, default=2, help="processes that train at once")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     if len(args.seeds) < 2:
         parser.error("--seeds: at least two, for a paired interval")
@@ -136,18 +140,16 @@ def main() -> None:
         below="below the reference",
         above="above the reference",
     )
-    rows = [{key: round(value, 3) if isinstance(value, float) else value
-             for key, value in row.items()} for row in intervals]  # fmt: skip
+    rows = [{key: round(row[key], 3) if isinstance(row.get(key), float) else row.get(key, "")
+             for key in INTERVAL_COLUMNS} for row in intervals]  # fmt: skip
     print(f"\nsteps {args.steps}, seeds {args.seeds}, first {args.frames} frames of every test "
           f"sequence ({seconds:.0f} s of training); gains over the blurred input, dB:")  # fmt: skip
-    markdown, _ = save_table(
-        rows,
-        args.out,
-        "video_ablation",
-        INTERVAL_COLUMNS,
-        caption="Video network variants (measured)",
-    )
-    print(markdown.read_text())
+    tables = {
+        "variants": rows,
+        "per seed": [{"variant": name, "seed": seed, "gain_db": round(gain, 3)}
+                     for name, by_seed in gains.items() for seed, gain in by_seed.items()],
+        "runs": [],
+    }  # fmt: skip
     video = longest_test_video(args.root, args.frames)
     print(
         f"per run: the step of the scored network (best validation) and the largest |hidden "
@@ -155,10 +157,13 @@ def main() -> None:
     )
     for run in runs:
         best_step = run.history["step"][int(np.argmax(run.history["val_psnr"]))]
+        state = largest_state(run.folder / "last.pt", video)
         print(
             f"  {run.variant:20s} seed {run.seed}: best at step {best_step}, largest state "
-            f"{largest_state(run.folder / 'last.pt', video):.3g}"
+            f"{state:.3g}"
         )
+        tables["runs"].append({"variant": run.variant, "seed": run.seed, "best_step": best_step,
+                               "largest_state": float(f"{state:.4g}")})  # fmt: skip
     if "aligned" in variants:
         shifts = frame_shifts(args.root, args.frames)
         print(
@@ -167,6 +172,16 @@ def main() -> None:
             f"{np.percentile(shifts, 90):.2f} px; the recurrent states move by these divided by "
             f"the feature stride ({VARIANTS['aligned'].feature_stride})"
         )
+    saved = save_benchmark_tables(
+        "ablate_video_deblur",
+        tables,
+        args.out_dir,
+        "Video network variants: gains over the blurred input and paired differences",
+        notes=f"Steps {args.steps}, seeds {args.seeds}, first {args.frames} frames of every test "
+        f"sequence of {args.root} ({seconds:.0f} s of training); dB; 95 % t-intervals paired by "
+        f"seed against {runs[0].variant}.",
+    )
+    print(saved.markdown.read_text())
 
 
 if __name__ == "__main__":

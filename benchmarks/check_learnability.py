@@ -1,23 +1,23 @@
 """Does the sharp-input pose regressor learn every stand-in scene, and what limits it?
 
     python benchmarks/check_learnability.py [--render-seeds 0 1] [--epochs 8 32] [--seeds 2]
-                                            [--work /tmp/learnability]
+                                            [--work /tmp/learnability] [--out-dir figures]
 
-The stand-in is useful for the paper's question only if its regressor learns: on every scene
-the LSTM trained on sharp frames should reach at most 0.5x the position error and 0.6x the
-orientation error of predicting the mean training pose (published methods reach about 0.1-0.3x
-on real 7-Scenes). This check renders the full-size default stand-in at each
-``--render-seeds`` seed (seed 0 is the one the notebooks use), trains the LSTM on sharp frames
-with ``train-pose``'s defaults except the number of epochs, once per ``--epochs`` value (an
-epoch is 32 optimiser steps whatever the scene's size), for ``--seeds`` training seeds, and
-prints per scene the mean-pose baseline, the nearest-view oracle (the training pose nearest to
-each test pose: how near the test views lie to views the training split holds) and the
-regressor's errors and ratios. Then the paired difference of the position and orientation
-ratios between the last and the first ``--epochs`` value, per render seed and scene, with a
-95 % t-interval. Both tables are also saved under ``--work`` (``learnability.md``/``.csv``,
-``learnability_epochs.md``/``.csv``). Renders (about 5 minutes each on 2 cores) and trainings
-are kept under ``--work`` and not redone. Not part of ``make reproduce``; docs/results.md
-("What reproduced, in numbers", the row on whether the regressor learns) records the last run.
+The stand-in is useful for the paper's question only if its regressor learns: on every scene the
+LSTM trained on sharp frames should reach at most 0.5x the position error and 0.6x the orientation
+error of predicting the mean training pose (published methods reach about 0.1-0.3x on real
+7-Scenes). This check renders the full-size default stand-in at each ``--render-seeds`` seed (seed 0
+is the one the notebooks use), trains the LSTM on sharp frames with ``train-pose``'s defaults except
+the number of epochs, once per ``--epochs`` value (an epoch is 32 optimiser steps whatever the
+scene's size), for ``--seeds`` training seeds, and prints per scene the mean-pose baseline, the
+nearest-view oracle (the training pose nearest to each test pose: how near the test views lie to
+views the training split holds) and the regressor's errors and ratios. Then the paired difference of
+the position and orientation ratios between the last and the first ``--epochs`` value, per render
+seed and scene, with a 95 % t-interval. Both tables are written to
+``<out-dir>/check_learnability.md`` with one CSV each (``check_learnability.csv``,
+``check_learnability-epochs.csv``). Renders (about 5 minutes each on 2 cores) and trainings are kept
+under ``--work`` and not redone. Not part of ``make reproduce``; docs/results.md ("What reproduced,
+in numbers", the row on whether the regressor learns) records the last run.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ from blurloc.experiments.pose import (
     nearest_view_baseline,
     run_pose_matrix,
 )
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.train.config import PoseTrainConfig
 
 
@@ -64,6 +64,7 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=2, help="training seeds per scene")
     parser.add_argument("--scenes", nargs="+", default=list(SCENE_NAMES))
     parser.add_argument("--work", type=Path, default=Path("/tmp/learnability"))
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     results = {}
     for render_seed in args.render_seeds:
@@ -84,10 +85,6 @@ def main() -> None:
         for (render_seed, epochs), scene_rows in results.items()
         for row in scene_rows
     ]
-    save_table(rows, args.work, "learnability",
-               caption=f"Sharp-input LSTM (mean over {args.seeds} training seeds) against the "
-                       "mean-pose baseline and the nearest-view oracle")  # fmt: skip
-    print("\n" + (args.work / "learnability.md").read_text())
     for (render_seed, epochs), scene_rows in results.items():
         met = sum(r["position_ratio"] <= 0.5 and r["orientation_ratio"] <= 0.6 for r in scene_rows)
         print(f"render seed {render_seed}, {epochs} epochs: {met} of {len(scene_rows)} scenes at "
@@ -97,11 +94,19 @@ def main() -> None:
     paired = comparison_table(rows, [(first, last)], ("position_ratio", "orientation_ratio"),
                               factor="epochs", units=("render_seed", "scene"),
                               method="t")  # fmt: skip
-    save_table([{k: round(v, 3) if isinstance(v, float) else v for k, v in row.items()}
-                for row in paired], args.work, "learnability_epochs",
-               caption=f"{last} minus {first} epochs, paired by render seed and scene; the "
-                       "verdict is on the claim that longer training lowers the ratio")  # fmt: skip
-    print("\n" + (args.work / "learnability_epochs.md").read_text())
+    saved = save_benchmark_tables(
+        "check_learnability",
+        {"scenes": rows,
+         "epochs": [{k: round(v, 3) if isinstance(v, float) else v for k, v in row.items()}
+                    for row in paired]},
+        args.out_dir,
+        "Does the sharp-input pose regressor learn every stand-in scene?",
+        notes=f"Scenes: sharp-input LSTM (mean over {args.seeds} training seeds) against the "
+        f"mean-pose baseline and the nearest-view oracle. Epochs: {last} minus {first} epochs, "
+        "paired by render seed and scene; the verdict is on the claim that longer training "
+        "lowers the ratio.",
+    )  # fmt: skip
+    print("\n" + saved.markdown.read_text())
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 
     python benchmarks/check_one_sequence.py [--scenes heads fire] [--sequence 1] [--seeds 3]
                                             [--work /tmp/one] [--route-share 0] [--epochs N]
-                                            [--blocks 5]
+                                            [--blocks 5] [--out-dir figures]
 
 A user with one real 1000-frame 7-Scenes sequence cuts it into 800 training and 200 test frames and
 runs ``blurloc train-pose`` with its defaults (blurred input, LSTM head, the reader resizing each
@@ -23,6 +23,8 @@ meets it with the blocks, the test views' place in the recording, not the networ
 limits it (the blocks' cut and models are kept apart from the plain cut's under ``--work``).
 Not part of ``make reproduce`` (the 640x480 render alone exceeds its budget); docs/results.md
 ("What reproduced, in numbers", the row on one 7-Scenes-length recording) records the last run.
+The table goes to ``<out-dir>/check_one_sequence-seq<sequence>-<scenes>[-<blocks>-blocks].md``/
+``.csv`` (one file per sequence, scenes and cut, so runs with other settings do not overwrite it).
 """
 
 from __future__ import annotations
@@ -42,7 +44,7 @@ from blurloc.experiments.pose import (
     nearest_view_baseline,
     predict_test_frames,
 )
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.train.loop import parallel_map
 
 RENDER_SEED = 0
@@ -68,6 +70,7 @@ def main() -> None:
     parser.add_argument("--blocks", type=int, default=1, help="blocks, each cut 80/20")
     parser.add_argument("--route-share", type=float, default=SynthConfig().route_share,
                         help="part of the walk on the scene's shared route")  # fmt: skip
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     config = SynthConfig(width=640, height=480, route_share=args.route_share)
     render_root = args.work / "render"
@@ -116,11 +119,17 @@ def main() -> None:
         row["position_ratio"] = round(row["position_m"] / row["baseline_position_m"], 2)
         row["orientation_ratio"] = round(row["orientation_deg"] / row["baseline_orientation_deg"],
                                          2)  # fmt: skip
-    save_table(rows, args.work, f"one_sequence-{args.blocks}-blocks",
-               caption=f"train-pose defaults on one 640x480 recording per scene (sequence "
-                       f"{args.sequence}, cut 800/200 in {args.blocks} block(s)) against its "
-                       "mean-pose baseline and the nearest-view oracle")  # fmt: skip
-    print("\n" + (args.work / f"one_sequence-{args.blocks}-blocks.md").read_text())
+    stem = f"check_one_sequence-seq{args.sequence}-{'-'.join(args.scenes)}"
+    saved = save_benchmark_tables(
+        stem if args.blocks == 1 else f"{stem}-{args.blocks}-blocks",
+        {"seeds": rows},
+        args.out_dir,
+        f"train-pose defaults on one 640x480 recording per scene (sequence {args.sequence}, cut "
+        f"800/200 in {args.blocks} block(s)) against its mean-pose baseline and the nearest-view "
+        "oracle",
+        notes=f"Route share {args.route_share}; epochs {args.epochs or 'train-pose default'}.",
+    )
+    print("\n" + saved.markdown.read_text())
     for scene in args.scenes:
         mine = [r for r in rows if r["scene"] == scene]
         position = np.mean([r["position_ratio"] for r in mine])
