@@ -1,6 +1,6 @@
 """How far from the coarse blur length the sinc refinement may go: the choice of SINC_AGREEMENT.
 
-    python benchmarks/choose_sinc_agreement.py --root R640_S3 [--photos 8]
+    python benchmarks/choose_sinc_agreement.py --root R640_S3 [--photos 8] [--out-dir figures]
 
 For each candidate band (low, high), :func:`blurloc.blur.estimate_motion_blur` keeps the length
 refined from the spectrum's sinc zeros only within low-high times the coarse length. Prints,
@@ -9,11 +9,9 @@ not fitted on: ``blurloc synth --out R640_S3 --width 640 --height 480 --frames 1
 the rank correlation of the estimate with the recorded extent and the median length error
 (extents >= 2 px), and on line-blurred photo crops (``estimation_trials``: L 7-27 px, σ 0,
 0.005 and 0.01; crops of seed 13, not those notebook 01 measures) the median length and angle
-errors. The shipped band
-(0.67, 2) came from this table: a lower factor below 0.67 costs the 640x480 rank correlation,
-an upper factor under 2 costs the photo crops' length error; the bands with low >= 0.67 and
-high >= 1.5 lie within 0.01 of each other in rank correlation, and (0.67, 2) is the round
-middle of them.
+errors. The shipped band (``blurloc.blur.SINC_AGREEMENT``) was chosen from this table, on
+this render only (docs/results.md gives the reasons). The table goes to
+``<out-dir>/choose_sinc_agreement.md``/``.csv``.
 """
 
 from __future__ import annotations
@@ -27,7 +25,7 @@ from blurloc.blur import blur_features, estimate_motion_blur
 from blurloc.data.sevenscenes import read_image
 from blurloc.experiments.blur_estimation import recorded_frames
 from blurloc.experiments.estimation import estimation_trials, photo_crops
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 BANDS = ((0.5, 4.0), (0.5, 3.0), (0.5, 2.0), (0.5, 1.5), (0.6, 2.0), (0.67, 1.5), (0.67, 2.0),
          (0.75, 1.33), (0.75, 2.0), (0.75, 2.5), (0.8, 2.0))  # fmt: skip
@@ -39,7 +37,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", required=True, help="640x480 stand-in render, not fitted on")
     parser.add_argument("--photos", type=int, default=8, help="photo crops (x 15 trials)")
-    parser.add_argument("--work", default="/tmp/sinc_agreement", help="where the table goes")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
 
     frames = [(read_image(sequence.path(record["frame"], "color")), record["mean_px"])
@@ -68,10 +66,15 @@ def main() -> None:
             "photo_angle_error_deg": round(float(np.median(
                 [t["angle_error_deg"] for t in trials])), 2),
         })  # fmt: skip
-    save_table(rows, args.work, "sinc_agreement",
-               caption=f"SINC_AGREEMENT candidates: {len(frames)} training frames of "
-                       f"{args.root} and {len(trials)} line-blurred photo crops.")  # fmt: skip
-    print(open(f"{args.work}/sinc_agreement.md").read())
+    saved = save_benchmark_tables(
+        "choose_sinc_agreement",
+        {"bands": rows},
+        args.out_dir,
+        "SINC_AGREEMENT candidates",
+        notes=f"{len(frames)} training frames of {args.root} and {len(trials)} line-blurred "
+        "photo crops.",
+    )
+    print(saved.markdown.read_text())
 
 
 if __name__ == "__main__":

@@ -2,16 +2,18 @@
 
     python benchmarks/compare_input_size.py [--resize 80] [--crop 64] [--seeds 5]
                                             [--data ROOT] [--work /tmp/input-size]
+                                            [--out-dir figures]
 
 At the pose network's default input (64 px short side, 56 px crops) the stand-in's median
-blur is 1.7 px, too little, perhaps, for deblurring to matter. This check repeats notebook 04's
+blur is under 2 px, too little, perhaps, for deblurring to matter. This check repeats notebook 04's
 main comparison at a larger input: the LSTM on blurred, network-deblurred (the shipped video
 checkpoint) and sharp frames, every scene, ``--seeds`` seeds shared by the three inputs, and
 prints the blur at both input sizes, the mean over seeds of the per-scene medians, and the
 paired differences (network-deblurred - blurred, sharp - blurred) with 95 % bootstrap
 intervals over the scene x seed pairs and the verdict each interval supports, as notebook 04
-does at the default size (``figures/pose_paired_differences.md``); both tables are also saved
-under ``--work`` (``pose_input_<resize>.md``/``.csv`` and ``pose_input_<resize>_paired``).
+does at the default size (``figures/pose_paired_differences.md``); both tables are written to
+``<out-dir>/compare_input_size-<resize>.md`` with one CSV each (``compare_input_size-<resize>.csv``,
+``compare_input_size-<resize>-paired.csv``).
 ``--data`` is the full-size default stand-in (rendered under ``--work`` when not given, about
 7 minutes on 2 cores); the deblurred copy (about 3 minutes) and the trainings (about 11
 minutes) are kept under ``--work``. Not part of ``make reproduce``; docs/results.md ("What
@@ -36,7 +38,7 @@ from blurloc.experiments.pose import (
 )
 from blurloc.experiments.video import write_deblurred_root
 from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.train.config import PoseTrainConfig
 
 METRICS = ("position_m_median", "orientation_deg_median", "combined")
@@ -50,6 +52,7 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=5)
     parser.add_argument("--data", type=Path, help="the default stand-in (rendered if not given)")
     parser.add_argument("--work", type=Path, default=Path("/tmp/input-size"))
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     start = time.perf_counter()
     data = args.data or synthesize(args.work / "standin", progress=False)
@@ -78,21 +81,20 @@ def main() -> None:
     print(f"{len(summaries)} trainings in {(time.perf_counter() - start) / 60:.1f} min\n")
 
     baseline = {scene: mean_pose_baseline(data, scene) for scene in scenes}
-    name = f"pose_input_{args.resize}"
-    save_table(
-        pose_overview(summaries, runs, baseline),
-        args.work,
-        name,
-        caption=f"Median errors at a {args.resize} px input, mean over scenes and seeds",
-    )
     paired = comparison_table(summaries, [("blurred", "rnn"), ("blurred", "sharp")], METRICS,
                               where={"head": "lstm"})  # fmt: skip
-    save_table([{k: round(v, 4) if isinstance(v, float) else v for k, v in row.items()}
-                for row in paired], args.work, f"{name}_paired",
-               caption="Mean paired difference over scene x seed pairs, 95 % bootstrap interval "
-                       "and the verdict on the claimed direction (lower)")  # fmt: skip
-    for table in (name, f"{name}_paired"):
-        print("\n" + (args.work / f"{table}.md").read_text())
+    saved = save_benchmark_tables(
+        f"compare_input_size-{args.resize}",
+        {"overview": pose_overview(summaries, runs, baseline),
+         "paired": [{k: round(v, 4) if isinstance(v, float) else v for k, v in row.items()}
+                    for row in paired]},
+        args.out_dir,
+        f"Pose verdicts at a {args.resize} px input ({args.crop} px crops, {args.seeds} seeds)",
+        notes="Overview: median errors, mean over scenes and seeds. Paired: mean paired "
+        "difference over scene x seed pairs, 95 % bootstrap interval and the verdict on the "
+        "claimed direction (lower).",
+    )  # fmt: skip
+    print("\n" + saved.markdown.read_text())
 
 
 if __name__ == "__main__":
