@@ -6,6 +6,7 @@ every frame, all without sensor noise.
     python benchmarks/deblur_known_blur.py --root data/standin-noise0 [--seeds 0 1 2 3]
         [--steps 1200] [--frames 100] [--out build/known_blur] [--workers 2]
         [--blurs rendered warped "recorded lines" "one line"] [--versus OTHER_OUT]
+        [--out-dir figures]
 
 On a stand-in rendered without noise (see ``train_without_noise.py``), the full network of
 notebook 03 gains about as much as one linear filter for all frames, while a filter fitted to
@@ -36,10 +37,13 @@ seed, the paired difference of each arm to the one before with its 95 % t-interv
 every blur the gains of two 9 x 9 linear filters (one learned on the arm's training frames,
 one fitted to each test frame's own top half: see ``linear_deblur_bounds.py``).
 
-Each arm's gain per seed is written to ``--out``/``gains.csv``. ``--versus`` names another run's
-``--out`` (on another render of the same scenes and camera paths, e.g. one made with ``blurloc
-synth --supersample 3``): every arm that both runs hold, and every step from one such arm to
-the next, is then compared across the two renders, paired by seed, with its 95 % t-interval.
+The tables go to ``<out-dir>/deblur_known_blur.md`` with one CSV each: ``deblur_known_blur.csv``
+(gain per arm and seed), ``deblur_known_blur-steps.csv`` (each arm minus the one before),
+``deblur_known_blur-linear_filters.csv`` and, with ``--versus``, ``deblur_known_blur-versus.csv``.
+Each arm's gain per seed is also written to ``--out``/``gains.csv``. ``--versus`` names another
+run's ``--out`` (on another render of the same scenes and camera paths, e.g. one made with ``blurloc
+synth --supersample 3``): every arm that both runs hold, and every step from one such arm to the
+next, is then compared across the two renders, paired by seed, with its 95 % t-interval.
 
 Finished trainings in ``--out`` are reused (``train_without_noise.py``'s ``clean-seed<n>``
 runs are the ``rendered`` arm's: copy them to ``rendered-seed<n>``); one made with other
@@ -77,7 +81,7 @@ from blurloc.images import as_float_image, linear_to_srgb, srgb_to_linear
 from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
 from blurloc.metrics import psnr
 from blurloc.models.video_deblur import VideoDeblurNet, parameter_count
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.train.config import VideoTrainConfig
 from blurloc.train.loop import parallel_map, validation_cut
 from blurloc.train.video import Video, train_video_deblur
@@ -210,8 +214,8 @@ def score_one(job: tuple) -> list[dict]:
 
 def compare_runs(
     gains: dict[str, dict[int, float]], versus: str, root: str, parameters: int
-) -> None:
-    """Print, for each arm both runs hold and for each step from one such arm to the next
+) -> list[dict]:
+    """Print and return, for each arm both runs hold and for each step from one such arm to the next
     (e.g. ``warped - rendered``), its value in this run minus that in the run whose ``--out``
     is ``versus``, paired by seed, with its 95 % t-interval."""
     other: dict[str, dict[int, float]] = {}
@@ -226,6 +230,7 @@ def compare_runs(
             run: {seed: by_blur[second][seed] - by_blur[first][seed]
                   for seed in by_blur[first] if seed in by_blur[second]}
             for run, by_blur in runs.items()}  # fmt: skip
+    compared = []
     for name, by_run in quantities.items():
         seeds = sorted(set(by_run[versus]) & set(by_run[root]))
         pair = {run: {seed: values[seed] for seed in seeds} for run, values in by_run.items()}
@@ -233,8 +238,11 @@ def compare_runs(
                                    below=f"less on {root}", above=f"more on {root}")  # fmt: skip
         print(f"\n{name}, {root} minus {versus} (dB, paired by seed):")
         for row in table:
-            print({key: round(value, 3) if isinstance(value, float) else value
-                   for key, value in row.items()})  # fmt: skip
+            rounded = {key: round(value, 3) if isinstance(value, float) else value
+                       for key, value in row.items()}  # fmt: skip
+            print(rounded)
+            compared.append({"quantity": name, **rounded})
+    return compared
 
 
 def main() -> None:
@@ -248,6 +256,7 @@ def main() -> None:
     parser.add_argument("--blurs", nargs="+", choices=BLURS, default=list(BLURS),
                         help="the arms to run (default: all four)")  # fmt: skip
     parser.add_argument("--versus", help="another run's --out, compared arm by arm and seed")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     blurs = [blur for blur in BLURS if blur in args.blurs]
     if len(args.seeds) < 2:
@@ -282,19 +291,24 @@ def main() -> None:
     write_rows([{"blur": blur, "seed": seed, "gain_db": gain} for blur, by_seed in gains.items()
                 for seed, gain in by_seed.items()], Path(args.out) / "gains.csv")  # fmt: skip
     parameters = dict.fromkeys(blurs, parameter_count(VideoDeblurNet()))
+    tables = {
+        "per seed": [{"blur": blur, "seed": seed, "gain_db": round(gain, 3)}
+                     for blur, by_seed in gains.items() for seed, gain in by_seed.items()],
+        "steps": [],
+        "linear filters": [],
+    }  # fmt: skip
     if args.versus:
-        compare_runs(gains, args.versus, args.root, parameters[blurs[0]])
+        tables["versus"] = compare_runs(gains, args.versus, args.root, parameters[blurs[0]])
     for reference, other in itertools.pairwise(blurs):  # each arm to the one before
         intervals = ablation_intervals({name: gains[name] for name in (reference, other)},
                                        parameters, reference=reference,
                                        below=f"gains less than under {reference}",
                                        above=f"gains more than under {reference}")  # fmt: skip
-        table = [{key: round(value, 3) if isinstance(value, float) else value
-                  for key, value in row.items()} for row in intervals]  # fmt: skip
-        name = f"known_blur_{other.replace(' ', '_')}_vs_{reference.replace(' ', '_')}"
-        markdown, _ = save_table(table, args.out, name, INTERVAL_COLUMNS,
-                                 caption=f"{other} vs {reference} (measured)")  # fmt: skip
-        print(markdown.read_text())
+        table = [{key: round(row[key], 3) if isinstance(row.get(key), float) else row.get(key, "")
+                  for key in INTERVAL_COLUMNS} for row in intervals]  # fmt: skip
+        tables["steps"] += [{"step": f"{other} vs {reference}", **row} for row in table]
+        for row in table:
+            print(f"{other} vs {reference}: {row}")
     print(f"({seconds:.0f} s of training; steps {args.steps}, seeds {args.seeds}, first "
           f"{args.frames} frames of every test sequence)")  # fmt: skip
     for blur in blurs:
@@ -311,7 +325,21 @@ def main() -> None:
         gains_linear = filter_gains(test, fit_global_filter(training, 9), 9)
         print(f"{blur}: 9 x 9 linear filters, bottom halves of {len(gains_linear['global'])} "
               f"test frames:")  # fmt: skip
-        print_gains(gains_linear)
+        tables["linear filters"] += [{"blur": blur, **row} for row in print_gains(gains_linear)]
+    if not tables["steps"]:
+        del tables["steps"]  # one arm only: nothing to pair
+    saved = save_benchmark_tables(
+        "deblur_known_blur",
+        tables,
+        args.out_dir,
+        "Video network trained and scored under four blurs of the same sharp frames",
+        notes=f"{seconds:.0f} s of training; steps {args.steps}, seeds {args.seeds}, first "
+        f"{args.frames} frames of every test sequence of {args.root}; {len(unblurred)} frames "
+        "left out (equal to their sharp frame under some blur). Gains in dB over each blur's "
+        "input; 95 % t-intervals paired by seed. Linear filters: 9 x 9, scored on the bottom "
+        "halves of every fifth test frame.",
+    )
+    print(f"wrote {saved.markdown}")
 
 
 if __name__ == "__main__":

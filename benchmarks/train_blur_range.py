@@ -6,9 +6,9 @@ own blur?
     python benchmarks/train_blur_range.py --root data/standin --strong-root data/standin-strong \
         [--seeds 0 1 2] [--steps 1200] [--frames 100] [--out build/blur_range] [--workers 2]
     python benchmarks/train_blur_range.py --root data/standin --photo-videos 14 \
-        [--photos-only] --out build/photo_mix
+        [--photos-only] --out build/photo_mix [--out-dir figures]
 
-The stand-in's blur is a few pixels (median 3.2 px at 160x120, 90th percentile 6.5 px); the
+The stand-in's blur is a few pixels at 160x120 (its ``blur.csv`` records it); the
 GoPro-style photo videos (:func:`blurloc.experiments.photo_video.photo_video_gains`) carry about
 4.5, 9 and 13.5 px, and real high-frame-rate footage averaged the GoPro way is often longer.
 Trainings per seed with one budget (``VideoTrainConfig`` with ``--steps`` steps, the full
@@ -32,6 +32,8 @@ PSNR gain over the blurred input per seed, and, per test set, the paired differe
 (:func:`blurloc.experiments.video_ablation.ablation_intervals`).
 Finished trainings in ``--out`` are reused; one made with other settings is refused (runs
 from before bounded recurrent states became the package's default among them: delete them).
+The table goes to ``<out-dir>/train_blur_range-<networks>.md``/``.csv``, ``<networks>`` naming
+the networks compared with ``standin`` (e.g. ``blur_range`` or ``photo_mix-photos_only``).
 """
 
 from __future__ import annotations
@@ -58,7 +60,7 @@ from blurloc.experiments.video_ablation import (
 )
 from blurloc.inference import VideoRestorer
 from blurloc.models.video_deblur import VideoDeblurNet, parameter_count
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.train.config import VideoTrainConfig
 from blurloc.train.loop import parallel_map
 from blurloc.train.video import train_video_deblur
@@ -118,6 +120,7 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=100, help="test frames per sequence")
     parser.add_argument("--out", default="build/blur_range")
     parser.add_argument("--workers", type=int, default=2, help="processes that train at once")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     if len(args.seeds) < 2:
         parser.error("--seeds: at least two, for a paired interval")
@@ -184,17 +187,21 @@ def main() -> None:
         rows = ablation_intervals(by_network, dict.fromkeys(by_network, parameters),
                                   reference="standin", below="lower than the stand-in alone",
                                   above="higher than the stand-in alone")  # fmt: skip
-        table += [{"test_set": test, **{key: round(value, 3) if isinstance(value, float)
-                                        else value for key, value in row.items()}}
+        table += [{"test_set": test, **{key: round(row[key], 3)
+                                        if isinstance(row.get(key), float) else row.get(key, "")
+                                        for key in INTERVAL_COLUMNS}}
                   for row in rows]  # fmt: skip
-    markdown, _ = save_table(
-        table, args.out, "blur_range", ("test_set", *INTERVAL_COLUMNS),
-        caption=f"Video network trained on the stand-in alone or with more data "
-                f"({', '.join(training)}; {args.steps} steps, seeds {args.seeds}): PSNR gain "
-                f"over the blurred input (dB, mean, min and max over seeds) and the paired "
-                f"difference to the stand-in-only network with its 95 % t-interval "
-                f"(measured).")  # fmt: skip
-    print(markdown.read_text())
+    saved = save_benchmark_tables(
+        "train_blur_range-" + "-".join(list(training)[1:]),
+        {"gains": table},
+        args.out_dir,
+        "Video network trained on the stand-in alone or with more data",
+        notes=f"Networks {', '.join(training)}; {args.steps} steps, seeds {args.seeds}, first "
+        f"{args.frames} frames of every test sequence: PSNR gain over the blurred input (dB, "
+        "mean, min and max over seeds) and the paired difference to the stand-in-only network "
+        "with its 95 % t-interval.",
+    )
+    print(saved.markdown.read_text())
 
 
 if __name__ == "__main__":
