@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 QUICK ?= 0
 
-.PHONY: setup reproduce test lint docs clean
+.PHONY: setup reproduce test lint docs benchmarks clean
 
 setup: $(STAMP)
 
@@ -32,6 +32,11 @@ docs: setup $(VENV)/.docs-installed
 $(VENV)/.docs-installed: requirements-docs.txt $(STAMP)
 	$(BIN)/python -m pip install --quiet -r requirements-docs.txt
 	touch $@
+
+## The cheap benchmarks (no rendered stand-in, about 1-2 min each), tables into figures/.
+BENCHMARKS_CHEAP := bench_deblur bench_deblur_folder bench_video_deblur bench_synth
+benchmarks: setup
+	set -e; for name in $(BENCHMARKS_CHEAP); do $(BIN)/python benchmarks/$$name.py; done
 
 lint: setup
 	$(BIN)/ruff check src tests benchmarks
