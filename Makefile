@@ -33,7 +33,7 @@ $(VENV)/.docs-installed: requirements-docs.txt $(STAMP)
 	$(BIN)/python -m pip install --quiet -r requirements-docs.txt
 	touch $@
 
-## The cheap benchmarks (no rendered stand-in, about 1-2 min each), tables into figures/.
+## The cheap benchmarks (no rendered stand-in, 1-3 min each), tables into figures/.
 BENCHMARKS_CHEAP := bench_deblur bench_deblur_folder bench_video_deblur bench_synth
 benchmarks: setup
 	set -e; for name in $(BENCHMARKS_CHEAP); do $(BIN)/python benchmarks/$$name.py; done
