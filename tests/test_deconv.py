@@ -17,10 +17,14 @@ from blurloc.blur import (
     to_gray,
     trajectory_kernel,
 )
+from blurloc.data.real import load_pairs
 from blurloc.deconv import (
-    GATE_MAX_NOISE,
+    GATE_MAX_LENGTH,
     GATE_MIN_ANISOTROPY,
     GATE_MIN_FIT,
+    GATE_MIN_LENGTH,
+    GATE_NOISE_EXPONENT,
+    GATE_REFERENCE_NOISE,
     _even_dft_size,
     blind_restoration_expected_to_gain,
     ccs_pack,
@@ -379,9 +383,47 @@ def test_gate_passes_a_noisy_shaken_frame_that_restoration_would_harm() -> None:
 def test_gate_thresholds() -> None:
     features = BlurFeatures(np.zeros(62), 0.0, anisotropy=GATE_MIN_ANISOTROPY, scale=1.0)
     trusted = BlurEstimate(length_px=12.0, angle_deg=0.0, fit=GATE_MIN_FIT)
-    assert blind_restoration_expected_to_gain(trusted, features, GATE_MAX_NOISE)
-    assert not blind_restoration_expected_to_gain(trusted, features, GATE_MAX_NOISE * 1.01)
+    sigma = GATE_REFERENCE_NOISE
+    shortest = GATE_MIN_LENGTH * (2.0**GATE_NOISE_EXPONENT)  # at twice the reference noise
+    assert blind_restoration_expected_to_gain(trusted, features, sigma, GATE_MIN_LENGTH)
+    assert not blind_restoration_expected_to_gain(trusted, features, sigma, 0.99 * GATE_MIN_LENGTH)
+    assert blind_restoration_expected_to_gain(trusted, features, 2 * sigma, shortest)
+    assert not blind_restoration_expected_to_gain(trusted, features, 2 * sigma, 0.99 * shortest)
+    assert blind_restoration_expected_to_gain(trusted, features, sigma, GATE_MAX_LENGTH)
+    assert not blind_restoration_expected_to_gain(trusted, features, sigma, 1.01 * GATE_MAX_LENGTH)
     unrefined = BlurEstimate(length_px=12.0, angle_deg=0.0, fit=0.0)
-    assert not blind_restoration_expected_to_gain(unrefined, features, 0.0)
+    assert not blind_restoration_expected_to_gain(unrefined, features, sigma, GATE_MIN_LENGTH)
     isotropic = BlurFeatures(np.zeros(62), 0.0, anisotropy=0.9 * GATE_MIN_ANISOTROPY, scale=1.0)
-    assert not blind_restoration_expected_to_gain(trusted, isotropic, 0.0)
+    assert not blind_restoration_expected_to_gain(trusted, isotropic, sigma, GATE_MIN_LENGTH)
+
+
+def _changes(
+    pairs: list[tuple[np.ndarray, np.ndarray]], gated: bool = True
+) -> tuple[np.ndarray, np.ndarray]:
+    """PSNR change (dB) of blind deblurring for each (blurred, sharp) pair, and whether the
+    frame was restored."""
+    changes, restored = [], []
+    for blurred, sharp in pairs:
+        result = deblur_blind(blurred, gated=gated)
+        restored.append(bool((result != blurred).any()))
+        changes.append(psnr(sharp, result, 255.0) - psnr(sharp, blurred, 255.0))
+    return np.array(changes), np.array(restored)
+
+
+def test_gate_does_not_harm_stand_in_frames(quick_root) -> None:
+    """The target on the stand-in: the mean change over all frames >= 0 dB, the median over the
+    frames restored > 0 (the ungated rule loses on these frames)."""
+    paths = sorted(quick_root.glob("*/seq-*/frame-*.color.png"))
+    pairs = [(cv2.imread(str(p)), cv2.imread(str(p).replace(".color.png", ".sharp.png")))
+             for p in paths]  # fmt: skip
+    changes, restored = _changes(pairs)
+    assert len(pairs) >= 16
+    assert changes.mean() >= 0.0
+    assert not restored.any() or np.median(changes[restored]) > 0
+    assert _changes(pairs, gated=False)[0].mean() < 0  # what the gate prevents
+
+
+def test_gate_does_not_harm_the_real_pair() -> None:
+    pairs = [(blurred, sharp) for _, blurred, sharp in load_pairs()]
+    changes, _ = _changes(pairs)
+    assert len(pairs) >= 1 and (changes >= 0).all()

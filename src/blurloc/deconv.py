@@ -30,17 +30,31 @@ from .images import check_image
 NSR_COEFFICIENT = 0.59
 NSR_EXPONENT = 0.72
 
-#: Blind deblurring restores a frame only when its blur estimate is trusted and its noise is low
-#: (:func:`blind_restoration_expected_to_gain`): the length refined from the spectrum's sinc
-#: zeros (so the coarse length is at least SINC_MIN_PX) with a sinc-fit correlation of at least
-#: GATE_MIN_FIT, a directional fall-off (the features' anisotropy) of at least
-#: GATE_MIN_ANISOTROPY, and a noise sigma ([0, 1] scale) of at most GATE_MAX_NOISE. Chosen by
-#: ``benchmarks/choose_blind_gate.py`` on scikit-image photographs blurred by camera-shake
-#: kernels with noise (the largest mean PSNR change over a grid, the median over restored frames
-#: above 0), and reported there on other photographs and on the stand-in.
-GATE_MIN_FIT = 0.7
-GATE_MIN_ANISOTROPY = 0.5
-GATE_MAX_NOISE = 0.02
+#: Blind deblurring restores a frame only where the frame itself says that the restoration is
+#: likely to gain (:func:`blind_restoration_expected_to_gain`):
+#:
+#: - the length was refined from the spectrum's sinc zeros with a correlation of at least
+#:   GATE_MIN_FIT: the blur is close to the straight line that eq. 4 is given (camera blur that
+#:   turns or curves leaves no clear zeros, and deconvolving it by a line rings);
+#: - the spectrum's fall-off depends on direction (anisotropy at least GATE_MIN_ANISOTROPY):
+#:   the blur, not the scene, shapes the spectrum;
+#: - the blur length at the analysis scale L is at least GATE_MIN_LENGTH * (sigma /
+#:   GATE_REFERENCE_NOISE) ** GATE_NOISE_EXPONENT (sigma: the noise, [0, 1] scale; with the
+#:   values below, L >= 400 sigma: 4 px at sigma 0.01, 8 px at 0.02): the frequencies that
+#:   deconvolution lifts must stand above the noise, and a short blur leaves little to recover
+#:   while the filter still amplifies the noise;
+#: - and at most GATE_MAX_LENGTH: a long exposure's path is rarely one straight line.
+#:
+#: Chosen by ``benchmarks/choose_blind_gate.py`` on scikit-image photographs blurred as a camera
+#: blurs them (sub-frames along shake paths, turned about the centre, averaged in linear light,
+#: with noise; the largest mean PSNR change over a grid, the median over restored frames above
+#: 0), and reported there on other photographs, on the stand-in and on real frames.
+GATE_MIN_FIT = 0.8
+GATE_MIN_ANISOTROPY = 0.8
+GATE_MIN_LENGTH = 4.0
+GATE_REFERENCE_NOISE = 0.01
+GATE_NOISE_EXPONENT = 1.0
+GATE_MAX_LENGTH = 20.0
 
 
 def kernel_to_otf(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
@@ -288,12 +302,26 @@ def inverse_filter(image: np.ndarray, kernel: np.ndarray, threshold: float = 1e-
 
 
 def blind_restoration_expected_to_gain(
-    estimate: BlurEstimate, features: BlurFeatures, noise_sigma: float
+    estimate: BlurEstimate,
+    features: BlurFeatures,
+    noise_sigma: float,
+    length: float | None = None,
 ) -> bool:
-    """Whether blind Wiener deconvolution of a frame is expected to raise its PSNR, judged from
-    the frame alone: the blur estimate refined from the sinc zeros with a fit of at least
-    GATE_MIN_FIT, the features' anisotropy at least GATE_MIN_ANISOTROPY and the noise sigma at
-    most GATE_MAX_NOISE (see the constants).
+    r"""Whether blind Wiener deconvolution of a frame is expected to raise its PSNR, judged from
+    the frame alone (see the GATE_* constants for the reasons):
+
+    .. math::
+
+        \rho \ge \rho_{\min}, \quad a \ge a_{\min}, \quad
+        L_{\min} \left(\frac{\sigma}{\sigma_0}\right)^{k} \le L \le L_{\max}
+
+    with :math:`\rho` the sinc fit's correlation (``estimate.fit``, 0 when the length was not
+    refined from the sinc zeros), :math:`a` the features' anisotropy, :math:`\sigma` the noise
+    sigma and :math:`L` the blur length at the analysis scale
+    (:func:`~blurloc.blur.analysis_length`); :math:`\rho_{\min}` = GATE_MIN_FIT,
+    :math:`a_{\min}` = GATE_MIN_ANISOTROPY, :math:`L_{\min}` = GATE_MIN_LENGTH,
+    :math:`\sigma_0` = GATE_REFERENCE_NOISE, :math:`k` = GATE_NOISE_EXPONENT and
+    :math:`L_{\max}` = GATE_MAX_LENGTH.
 
     Parameters
     ----------
@@ -303,6 +331,9 @@ def blind_restoration_expected_to_gain(
         The frame's features (:func:`~blurloc.blur.blur_features`).
     noise_sigma : float
         The frame's noise sigma on the [0, 1] scale (:func:`~blurloc.blur.estimate_noise_sigma`).
+    length : float, optional
+        The blur length L at the analysis scale; default
+        :func:`~blurloc.blur.analysis_length` of ``features``.
 
     Returns
     -------
@@ -312,14 +343,18 @@ def blind_restoration_expected_to_gain(
     ----------
     Oliveira, Figueiredo and Bioucas-Dias, "Blind estimation of motion blur parameters for image
     deconvolution", IbPRIA 2007 (a linear blur shows as clear sinc zeros in the spectrum).
-    Immerkær, "Fast noise variance estimation", CVIU 1996.
+    Boracchi and Foi, "Modeling the performance of image restoration from motion blur", IEEE
+    Trans. Image Process. 21(8), 2012 (what restoration gains depends on the blur and the
+    noise). Immerkær, "Fast noise variance estimation", CVIU 1996.
     """
-    return estimate.fit >= GATE_MIN_FIT and _trusted_frame(features, noise_sigma)
+    return estimate.fit >= GATE_MIN_FIT and _trusted_frame(features, noise_sigma, length)
 
 
-def _trusted_frame(features: BlurFeatures, noise_sigma: float) -> bool:
+def _trusted_frame(features: BlurFeatures, noise_sigma: float, length: float | None) -> bool:
     """The part of :func:`blind_restoration_expected_to_gain` known before the estimate."""
-    return features.anisotropy >= GATE_MIN_ANISOTROPY and noise_sigma <= GATE_MAX_NOISE
+    length = analysis_length(features) if length is None else length
+    shortest = GATE_MIN_LENGTH * (noise_sigma / GATE_REFERENCE_NOISE) ** GATE_NOISE_EXPONENT
+    return features.anisotropy >= GATE_MIN_ANISOTROPY and shortest <= length <= GATE_MAX_LENGTH
 
 
 def blind_kernel(
@@ -354,15 +389,16 @@ def blind_kernel(
     """
     image = check_image(image)
     features = blur_features(image)
-    if analysis_length(features) <= threshold:
+    length = analysis_length(features)
+    if length <= threshold:
         return None
     if not gated:
         return estimate_motion_blur(image, features=features).kernel()
     noise_sigma = estimate_noise_sigma(image)
-    if not _trusted_frame(features, noise_sigma):  # no need to refine the estimate
+    if not _trusted_frame(features, noise_sigma, length):  # no need to refine the estimate
         return None
     estimate = estimate_motion_blur(image, features=features)
-    if not blind_restoration_expected_to_gain(estimate, features, noise_sigma):
+    if not blind_restoration_expected_to_gain(estimate, features, noise_sigma, length):
         return None
     return estimate.kernel()
 
