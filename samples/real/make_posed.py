@@ -2,11 +2,11 @@
 
 The colour frames are byte copies; each frame's 4x4 camera-to-world pose is the ground truth
 at the frame's stamp (position interpolated linearly, rotation by slerp between the two
-nearest ground-truth samples); ``frames.csv`` records each frame's stamp, source file, the
-nearest depth image's stamp and its median valid depth (metres, ``depth / 5000``). The first
-``--frames`` frames from ``--start`` go to ``seq-01`` (training split), the next as many to
-``seq-02`` (test split). Run once by whoever rebuilds the set; the manifest's sha256 column
-then records the written files::
+nearest ground-truth samples: ``blurloc.data.tum.pose_at``); ``frames.csv`` records each
+frame's stamp, source file, the nearest depth image's stamp and its median valid depth
+(metres, ``depth / 5000``). The first ``--frames`` frames from ``--start`` go to ``seq-01``
+(training split), the next as many to ``seq-02`` (test split). Run once by whoever rebuilds
+the set; the manifest's sha256 column then records the written files::
 
     python samples/real/make_posed.py SOURCE/data samples/real/posed/fr1_rpy \\
         --start 1305031230.865523 --frames 40
@@ -21,33 +21,13 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-from scipy.spatial.transform import Rotation, Slerp
+
+from blurloc.data.tum import pose_at, read_groundtruth, read_stamped, write_pose
 
 FR1_INTRINSICS = (
     "# fx fy cx cy\n517.3 516.5 318.6 255.3\n"
     "# k1 k2 p1 p2 k3\n0.2624 -0.9531 -0.0054 0.0026 1.1633\n"
 )
-
-
-def read_stamped(path: Path) -> list[list[str]]:
-    """Non-comment lines of a TUM text file, split on white space."""
-    return [
-        line.split() for line in path.read_text().splitlines() if line and not line.startswith("#")
-    ]
-
-
-def pose_at(stamps: np.ndarray, rows: np.ndarray, stamp: float) -> np.ndarray:
-    """The 4x4 ground-truth pose at ``stamp``: linear in position, slerp in rotation."""
-    after = int(np.searchsorted(stamps, stamp))
-    before = max(after - 1, 0)
-    span = stamps[after] - stamps[before]
-    weight = 0.0 if span == 0 else (stamp - stamps[before]) / span
-    position = (1 - weight) * rows[before, :3] + weight * rows[after, :3]
-    slerp = Slerp(stamps[[before, after]], Rotation.from_quat(rows[[before, after], 3:]))
-    pose = np.eye(4)
-    pose[:3, :3] = slerp([stamp]).as_matrix()[0]
-    pose[:3, 3] = position
-    return pose
 
 
 def main() -> None:
@@ -60,8 +40,7 @@ def main() -> None:
     parser.add_argument("--start", type=float, required=True, help="TUM stamp of the first frame")
     parser.add_argument("--frames", type=int, default=40, help="frames per sequence")
     args = parser.parse_args()
-    truth = np.array(read_stamped(args.source / "groundtruth.txt"), dtype=float)
-    stamps, rows = truth[:, 0], truth[:, 1:]
+    stamps, rows = read_groundtruth(args.source / "groundtruth.txt")
     depth = [(float(s), f) for s, f in read_stamped(args.source / "depth.txt")]
     depth_stamps = np.array([s for s, _ in depth])
     colour = [
@@ -74,7 +53,7 @@ def main() -> None:
         folder = args.out / sequence
         folder.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(args.source / name, folder / f"{frame}.color.png")
-        np.savetxt(folder / f"{frame}.pose.txt", pose_at(stamps, rows, float(stamp)), fmt="%.9f")
+        write_pose(folder / f"{frame}.pose.txt", pose_at(stamps, rows, float(stamp)))
         nearest = int(np.argmin(np.abs(depth_stamps - float(stamp))))
         image = cv2.imread(str(args.source / depth[nearest][1]), cv2.IMREAD_UNCHANGED)
         median = float(np.median(image[image > 0])) / 5000.0

@@ -76,6 +76,15 @@ def _check_data(args: argparse.Namespace) -> int:
     return 0
 
 
+def _convert_tum(args: argparse.Namespace) -> int:
+    from .data.tum import convert_tum
+
+    print(convert_tum(args.source, args.out, args.scene, sequences=args.sequences,
+                      test_every=args.test_every, width=args.width,
+                      overwrite=args.overwrite))  # fmt: skip
+    return 0
+
+
 def _run_notebooks(args: argparse.Namespace) -> int:
     from .publish import publish_notebooks
     from .runner import NotebookError, notebook_names, run_notebooks
@@ -399,6 +408,33 @@ def _add_check_data_parser(commands: argparse._SubParsersAction) -> None:
     check.set_defaults(handler=_check_data)
 
 
+def _add_convert_tum_parser(commands: argparse._SubParsersAction) -> None:
+    """Add ``blurloc convert-tum`` and its options to ``commands``."""
+    convert = commands.add_parser(
+        "convert-tum", help="write a TUM RGB-D recording as a 7-Scenes scene (poses, split)"
+    )
+    convert.add_argument("source", help="recording folder (rgb.txt, groundtruth.txt, rgb/)")
+    convert.add_argument("out", help="7-Scenes root to write the scene into")
+    convert.add_argument("--scene", required=True, help="scene name, e.g. fr1_rpy")
+    convert.add_argument(
+        "--sequences",
+        type=int,
+        default=10,
+        help="consecutive sequences to cut the frames into (default 10)",
+    )
+    convert.add_argument(
+        "--test-every",
+        type=int,
+        default=4,
+        help="every that many-th sequence is the test split (default 4)",
+    )
+    convert.add_argument(
+        "--width", type=int, help="shrink the frames to this width, px (default: copy them)"
+    )
+    convert.add_argument("--overwrite", action="store_true", help="replace the scene folder")
+    convert.set_defaults(handler=_convert_tum)
+
+
 def _add_blur_estimate_parser(commands: argparse._SubParsersAction) -> None:
     """Add ``blurloc blur-estimate`` and its options to ``commands``."""
     estimate = commands.add_parser(
@@ -553,6 +589,7 @@ def _add_run_notebooks_parser(commands: argparse._SubParsersAction) -> None:
 _PARSER_BUILDERS = (
     _add_synth_parser,
     _add_check_data_parser,
+    _add_convert_tum_parser,
     _add_blur_estimate_parser,
     _add_deblur_parser,
     _add_train_video_deblur_parser,
