@@ -13,6 +13,7 @@ import pytest
 from blurloc.data import load_split
 from blurloc.data.real import (
     POSED_SCENE,
+    RECORDING_SCENE,
     SKIMAGE_PREFIX,
     DataError,
     data_root,
@@ -25,9 +26,11 @@ from blurloc.data.real import (
     posed_frame_table,
     posed_root,
     read_manifest,
+    recording_root,
     tum_files,
     verify,
 )
+from blurloc.data.sevenscenes import read_pose
 
 ENTRIES = read_manifest()
 FILES_PRESENT = all(entry_path(e).is_file() for e in ENTRIES)
@@ -38,7 +41,7 @@ needs_files = pytest.mark.skipif(
 
 def test_manifest_lists_every_part_with_source_licence_and_commit():
     parts = {entry.part for entry in ENTRIES}
-    assert parts == {"sharp", "blurred", "pairs", "posed", "tum"}
+    assert parts == {"sharp", "blurred", "pairs", "posed", "tum", "recording"}
     for entry in ENTRIES:
         if "/" in entry.source_repository and entry.source_repository != "this repository":
             assert len(entry.commit) == 40 and entry.source_path, entry.file
@@ -121,6 +124,25 @@ def test_posed_frames_have_the_stated_size_and_rigid_poses():
     assert steps.max() < 0.05  # consecutive 30 Hz frames of a handheld camera
     camera = posed_camera()
     assert camera[0, 0] == pytest.approx(517.3) and camera[1, 2] == pytest.approx(255.3)
+
+
+@needs_files
+def test_the_recording_holds_every_frame_with_interleaved_test_sequences():
+    train = load_split(recording_root(), RECORDING_SCENE, "train")
+    test = load_split(recording_root(), RECORDING_SCENE, "test")
+    assert [s.folder.name for s in test] == ["seq-04", "seq-08"]
+    assert sum(len(s) for s in train + test) == len(part_entries("recording")) // 2 - 1 == 723
+    assert train[0].images(frame_ids=train[0].frame_ids[:1]).shape == (1, 120, 160, 3)
+    poses = np.concatenate([s.poses() for s in sorted(train + test, key=lambda s: s.folder)])
+    steps = np.linalg.norm(np.diff(poses[:, :3, 3], axis=0), axis=1)
+    assert steps.max() < 0.05  # one recording, consecutive across the sequence borders
+    posed = load_split(posed_root(), POSED_SCENE, "train")[0]
+    first = posed_frame_table()[0]["stamp"]
+    row = next(r for r in csv.DictReader((recording_root() / RECORDING_SCENE / "frames.csv").open())
+               if r["stamp"] == first)  # fmt: skip
+    same = read_pose(recording_root() / RECORDING_SCENE / row["frame"].replace("color.png",
+                     "pose.txt"))  # fmt: skip
+    assert np.allclose(same, posed.poses()[0], atol=1e-8)  # the same frame, the same pose
 
 
 @needs_files

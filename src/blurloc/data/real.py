@@ -1,10 +1,10 @@
 """Reader of the real development set described by ``samples/real/MANIFEST.csv``. Torch-free.
 
 The manifest lists every file with its part (``sharp``, ``blurred``, ``pairs``, ``posed``,
-``tum``), source repository, commit, path in the source, licence and sha256. Files named
-``skimage:<name>`` are read from the installed scikit-image; the others from the data root
-(:func:`data_root`). Every problem is reported as a :class:`~blurloc.data.sevenscenes.DataError`
-naming the file.
+``tum``, ``recording``), source repository, commit, path in the source, licence and sha256.
+Files named ``skimage:<name>`` are read from the installed scikit-image; the others from the
+data root (:func:`data_root`). Every problem is reported as a
+:class:`~blurloc.data.sevenscenes.DataError` naming the file.
 """
 
 from __future__ import annotations
@@ -30,8 +30,10 @@ def manifest_path() -> Path:
     return project_root() / "samples" / "real" / "MANIFEST.csv"
 
 
-PARTS = ("sharp", "blurred", "pairs", "posed", "tum")
+PARTS = ("sharp", "blurred", "pairs", "posed", "tum", "recording")
 POSED_SCENE = "fr1_rpy"
+#: Scene of the ``recording`` part: a whole real recording in the 7-Scenes layout.
+RECORDING_SCENE = "fr1_rpy"
 SKIMAGE_PREFIX = "skimage:"
 _COLUMNS = ["file", "part", "source_repository", "commit", "source_path", "licence", "sha256",
             "description"]  # fmt: skip
@@ -156,7 +158,7 @@ def verify(
 
 def part_entries(part: str, manifest: str | os.PathLike | None = None) -> list[ManifestEntry]:
     """The manifest's entries of one part (``sharp``, ``blurred``, ``pairs``, ``posed``,
-    ``tum``), in manifest order."""
+    ``tum``, ``recording``), in manifest order."""
     if part not in PARTS:
         raise ValueError(f"part must be one of {PARTS}, got {part!r}")
     return [entry for entry in read_manifest(manifest) if entry.part == part]
@@ -208,6 +210,14 @@ def posed_root(root: str | os.PathLike | None = None) -> Path:
     """The 7-Scenes-layout root of the posed frames (scene ``fr1_rpy``), for
     :func:`~blurloc.data.sevenscenes.load_split`."""
     return Path(root if root is not None else data_root()) / "posed"
+
+
+def recording_root(root: str | os.PathLike | None = None) -> Path:
+    """The 7-Scenes-layout root of the whole real recording (scene ``fr1_rpy``: every frame of
+    TUM RGB-D ``freiburg1_rpy`` at 160x120, cut into 10 sequences, every 4th held out as the
+    test split; written by :func:`blurloc.data.tum.convert_tum`), for
+    :func:`~blurloc.data.sevenscenes.load_split`."""
+    return Path(root if root is not None else data_root()) / "recording"
 
 
 def posed_camera(root: str | os.PathLike | None = None) -> np.ndarray:
