@@ -124,3 +124,20 @@ def test_pose_cli(quick_root: Path, tmp_path: Path, capsys: pytest.CaptureFixtur
     assert main(["eval-pose", "--data", str(quick_root), "--scene", "chess", "--model",
                  str(tmp_path / "none.pt"), "--out", str(tmp_path / "x.txt")]) == 1  # fmt: skip
     assert "missing" in capsys.readouterr().err
+
+
+def test_a_run_made_before_fixed_crop_resumes_with_random_crops_only(
+    quick_root: Path, tmp_path: Path
+) -> None:
+    old = replace(SMALL, epochs=2, model=PoseConfig(hidden=8))
+    train_pose(quick_root, "chess", tmp_path / "old", old, progress=False, stop_after=1)
+    for name in ("best.pt", "last.pt"):  # as stored before the setting existed
+        payload = torch.load(tmp_path / "old" / name, weights_only=False)
+        assert payload["train_config"].pop("fixed_crop") is False
+        torch.save(payload, tmp_path / "old" / name)
+    with pytest.raises(ValueError, match=r"fixed_crop: None -> True"):
+        on = replace(old, fixed_crop=True)
+        train_pose(quick_root, "chess", tmp_path / "old", on, progress=False)
+    assert load_pose_model(tmp_path / "old" / "best.pt")[1].fixed_crop is False
+    resumed = train_pose(quick_root, "chess", tmp_path / "old", old, progress=False)
+    assert resumed["epoch"] == [1, 2]

@@ -308,7 +308,8 @@ def _train_pose(args: argparse.Namespace) -> int:
     if args.windows_per_epoch is not None:  # 0: one pass over every window per epoch
         overrides["windows_per_epoch"] = args.windows_per_epoch or None
     config = replace(config, **{k: v for k, v in overrides.items() if v is not None},
-                     learned_weighting=args.learned_weighting)  # fmt: skip
+                     learned_weighting=args.learned_weighting,
+                     fixed_crop=args.fixed_crop)  # fmt: skip
     history = train_pose(root, args.scene, args.out, config, progress=not args.quiet,
                          restart=args.restart)  # fmt: skip
     print(json.dumps({"checkpoint": str(Path(args.out) / "best.pt"),
@@ -536,6 +537,11 @@ def _add_train_pose_parser(commands: argparse._SubParsersAction) -> None:
         "--learned-weighting",
         action="store_true",
         help="learnable s_x, s_q loss weights instead of eq. 14's beta",
+    )
+    pose.add_argument(
+        "--fixed-crop",
+        action="store_true",
+        help="train on centre crops, as tested, instead of random ones",
     )
     pose.add_argument("--seed", type=int, default=DEFAULT_SEED)
     pose.add_argument("--device", default="auto")

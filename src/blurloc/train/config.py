@@ -71,9 +71,12 @@ class PoseTrainConfig:
     50 epochs, batch 64, dropout 0.6, beta 0.8. CPU-scale defaults here (a 1000-frame scene in
     minutes on 2 cores): 64 px short side, 56 px crops, a small ResNet, lr 1e-3 (lr 5e-5 barely
     moves in 15 epochs) decayed per step by a cosine to 1 % of it, batch 16 windows of 4
-    frames; weight decay, dropout and beta as in the paper. ``image`` is the frame kind read
-    (``color``; ``sharp`` on the stand-in for the upper bound); ``threads`` intra-op CPU threads
-    (fixed for reproducible numbers).
+    frames; weight decay, dropout and beta as in the paper. Training crops lie at a random place
+    of the resized frame, shared by a window's frames (the paper's augmentation), or with
+    ``fixed_crop`` at the centre, where the test crops lie: a random crop shifts the image as a
+    turn of the camera would, while the pose it is trained towards stays. ``image`` is the frame
+    kind read (``color``; ``sharp`` on the stand-in for the upper bound); ``threads`` intra-op
+    CPU threads (fixed for reproducible numbers).
 
     The budget is fixed in optimiser steps, not in passes over the data: an epoch is
     ``windows_per_epoch`` windows drawn at random (without replacement until every window was
@@ -102,6 +105,7 @@ class PoseTrainConfig:
     weight_decay: float = 3e-4
     beta: float = 0.8
     learned_weighting: bool = False
+    fixed_crop: bool = False
     image: str = "color"
     seed: int = 0
     threads: int = TRAIN_THREADS

@@ -130,7 +130,7 @@ def _training_loader(
     dataset = PoseSequenceDataset(
         train_sequences, window=1 if single else config.window,
         stride=1 if single else config.stride, resize=config.resize, crop=config.crop,
-        random_crop=True, kinds=(config.image,), cache=cache,
+        random_crop=not config.fixed_crop, kinds=(config.image,), cache=cache,
     )  # fmt: skip
     frames_per_item = config.window if single else 1
     batch = config.batch * frames_per_item
