@@ -2,6 +2,7 @@
 
     python benchmarks/bench_pose_real.py [--data samples/real/recording] [--scene fr1_rpy]
         [--standin ROOT] [--standin-scene chess] [--seeds 3] [--variant fixed_crop=true ...]
+        [--standin-variant resize=120,crop=104 ...]
         [--work /tmp/bench-pose-real] [--out figures]
 
 On a real recording in the 7-Scenes layout (default: the committed TUM RGB-D ``freiburg1_rpy``
@@ -19,7 +20,8 @@ every test frame's median position and orientation error of
   ``--seeds`` seeds, each a run of its own (8 epochs of 512 windows, about 3 minutes on 2
   shared CPU cores);
 - each ``--variant`` (settings of ``PoseTrainConfig`` changed from the defaults, e.g.
-  ``fixed_crop=true`` or ``resize=96,crop=84``) on the same seeds.
+  ``fixed_crop=true``, ``resize=96,crop=84`` or ``model.dropout=0.2``) on the same seeds; on the
+  stand-in the defaults and each ``--standin-variant``.
 
 Ratios are to the mean pose's median errors; a regressor's row gives the mean over seeds and
 the 95 % t-interval of that mean, and whether every seed meets the targets (position <= 0.5x,
@@ -48,7 +50,8 @@ from blurloc.experiments.pose import mean_pose_baseline, nearest_view_baseline
 from blurloc.experiments.retrieval import retrieval_baseline
 from blurloc.inference import load_pose_model, predict_poses
 from blurloc.intervals import paired_interval, verdict
-from blurloc.metrics import pose_summary
+from blurloc.metrics import pose_summary, position_errors
+from blurloc.models.pose import PoseConfig
 from blurloc.tables import save_table
 from blurloc.train.config import PoseTrainConfig
 from blurloc.train.datasets import FrameCache
@@ -62,16 +65,40 @@ COLUMNS = ["dataset", "what", "seeds", "position_m", "orientation_deg", "positio
 
 
 def parse_variant(text: str) -> dict:
-    """``name=value,...`` as ``PoseTrainConfig`` overrides (numbers and true/false parsed)."""
-    overrides = {}
+    """``name=value,...`` as ``PoseTrainConfig`` overrides: numbers and true/false parsed,
+    ``model.<name>`` settings of its ``PoseConfig`` gathered under ``model``."""
+    overrides: dict = {}
     for item in text.split(","):
         name, _, value = item.partition("=")
         if value.lower() in ("true", "false"):
-            overrides[name] = value.lower() == "true"
+            parsed = value.lower() == "true"
         else:
-            overrides[name] = float(value) if "." in value or "e" in value else int(value)
-    PoseTrainConfig(**overrides)  # refuses unknown names and bad values now, not after training
+            parsed = float(value) if "." in value or "e" in value else int(value)
+        if name.startswith("model."):
+            overrides.setdefault("model", {})[name.removeprefix("model.")] = parsed
+        else:
+            overrides[name] = parsed
+    variant_config(overrides, 0)  # refuses unknown names and bad values now, not after training
     return overrides
+
+
+def variant_config(overrides: dict, seed: int) -> PoseTrainConfig:
+    """The package's defaults with ``overrides`` (:func:`parse_variant`) and ``seed``."""
+    settings = dict(overrides)
+    model = PoseConfig(**settings.pop("model", {}))
+    return replace(PoseTrainConfig(seed=seed), **settings, model=model)
+
+
+def nearest_position_text(root: Path, scene: str) -> str:
+    """Per test sequence, the median distance of its positions to the nearest training
+    position: how far outside the training positions its views lie."""
+    train = np.concatenate([s.poses()[:, :3, 3] for s in load_split(root, scene, "train")])
+    parts = []
+    for sequence in load_split(root, scene, "test"):
+        positions = sequence.poses()[:, :3, 3]
+        nearest = [np.linalg.norm(train - p, axis=1).min() for p in positions]
+        parts.append(f"{sequence.folder.name} {np.median(nearest):.3f} m")
+    return "test positions' median distance to the nearest training position: " + ", ".join(parts)
 
 
 def median_depth(root: Path, scene: str) -> float | None:
@@ -92,10 +119,13 @@ def run_seed(root: Path, scene: str, folder: Path, config: PoseTrainConfig,
     """Train (or reuse) one run and score its best checkpoint on the test split."""
     history = train_pose(root, scene, folder, config, progress=False, cache=cache)
     model, trained = load_pose_model(folder / "best.pt", scene=scene)
-    summary = pose_summary(predict_poses(model, load_split(root, scene, "test"), trained,
-                                         cache=cache))  # fmt: skip
+    test = load_split(root, scene, "test")
+    pair = predict_poses(model, test, trained, cache=cache)
+    summary = pose_summary(pair)
+    ends = np.cumsum([len(s) for s in test])[:-1]
+    per_sequence = [float(np.median(e)) for e in np.split(position_errors(pair), ends)]
     scores = np.add(history["val_position_m"], np.divide(history["val_orientation_deg"], 10))
-    return {"position_m": summary["position_m"]["median"],
+    return {"position_m": summary["position_m"]["median"], "per_sequence": per_sequence,
             "orientation_deg": summary["orientation_deg"]["median"],
             "val_position_m": history["val_position_m"][int(np.argmin(scores))],
             "train_s": history["seconds"][-1]}  # fmt: skip
@@ -133,7 +163,11 @@ def dataset_rows(label: str, root: Path, scene: str, seeds: int, variants: dict[
                      "orientation_ratio": f"{ratios[1]:.2f}", "verdict": note})  # fmt: skip
         return ratios
 
-    baseline(f"mean pose ({mean['frames']} test frames)", mean, spread)
+    baseline(
+        f"mean pose ({mean['frames']} test frames)",
+        mean,
+        "; ".join(filter(None, [spread, nearest_position_text(root, scene)])),
+    )
     retrieved = baseline("image retrieval (nearest training frame, 16x12 gray descriptor)",
                          retrieval_baseline(root, scene))  # fmt: skip
     baseline("nearest training view in pose (oracle)", nearest_view_baseline(root, scene))
@@ -142,12 +176,12 @@ def dataset_rows(label: str, root: Path, scene: str, seeds: int, variants: dict[
     for name, overrides in {"train-pose defaults": {}, **variants}.items():
         per_seed = []
         for seed in range(seeds):
-            config = replace(PoseTrainConfig(seed=seed), **overrides)
+            config = variant_config(overrides, seed)
             kind = name.replace(",", "_") if overrides else "defaults"
             folder = work / label.split()[0] / kind / f"seed-{seed}"
             result = run_seed(root, scene, folder, config, cache)
             per_seed.append(result)
-            print(label, name, seed, {k: round(v, 4) for k, v in result.items()}, flush=True)
+            print(label, name, seed, result, flush=True)
         errors = np.array([[r["position_m"], r["orientation_deg"]] for r in per_seed])
         ratios[name] = errors / unit
         met = np.all(ratios[name] <= np.array(TARGETS), axis=0)
@@ -161,7 +195,12 @@ def dataset_rows(label: str, root: Path, scene: str, seeds: int, variants: dict[
                      "verdict": f"every seed within <= {TARGETS[0]}x position: "
                                 f"{'yes' if met[0] else 'no'}; <= {TARGETS[1]}x orientation: "
                                 f"{'yes' if met[1] else 'no'} (per seed "
-                                + ", ".join(f"{a:.2f}/{b:.2f}" for a, b in ratios[name]) + ")",
+                                + ", ".join(f"{a:.2f}/{b:.2f}" for a, b in ratios[name])
+                                + "); median position error per test sequence, seed mean: "
+                                + ", ".join(f"{s.folder.name} {e:.3f} m" for s, e in zip(
+                                    load_split(root, scene, "test"),
+                                    np.mean([r["per_sequence"] for r in per_seed], axis=0),
+                                    strict=True)),
                      "val_position_m": f"{np.mean([r['val_position_m'] for r in per_seed]):.4f}",
                      "train_s": round(np.mean([r["train_s"] for r in per_seed]))})  # fmt: skip
     pairs = [(f"{name} - defaults", ratios[name] - ratios["train-pose defaults"])
@@ -187,11 +226,8 @@ def main() -> None:
     parser.add_argument("--scene", default=RECORDING_SCENE)
     parser.add_argument("--standin", type=Path, help="stand-in root (skipped when not given)")
     parser.add_argument("--standin-scene", default="chess")
-    parser.add_argument(
-        "--variants-on-standin",
-        action="store_true",
-        help="train the variants on the stand-in too (default: defaults only)",
-    )
+    parser.add_argument("--standin-variant", action="append", default=[],
+                        help="a variant trained on the stand-in too (default: none)")  # fmt: skip
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--variant", action="append", default=[],
                         help="PoseTrainConfig settings, name=value[,name=value]")  # fmt: skip
@@ -204,7 +240,7 @@ def main() -> None:
                         args.work)  # fmt: skip
     if args.standin is not None:
         rows += dataset_rows(f"stand-in {args.standin_scene}", args.standin, args.standin_scene,
-                             args.seeds, variants if args.variants_on_standin else {},
+                             args.seeds, {t: parse_variant(t) for t in args.standin_variant},
                              args.work)  # fmt: skip
     command = "python " + " ".join(sys.argv)
     date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
