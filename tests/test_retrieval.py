@@ -18,6 +18,10 @@ from blurloc.experiments.retrieval import (
 needs_recording = pytest.mark.skipif(
     not (recording_root() / RECORDING_SCENE).is_dir(), reason="the real recording is not present"
 )
+needs_posed = pytest.mark.skipif(
+    not (posed_root() / POSED_SCENE / "seq-01").is_dir(),
+    reason="the real posed frames are not present",
+)
 
 
 def test_descriptor_is_normalised_and_ignores_brightness_and_contrast():
@@ -36,6 +40,7 @@ def test_nearest_frames_finds_each_query_in_the_database():
     assert nearest_frames(database[[3, 0, 4]], database).tolist() == [3, 0, 4]
 
 
+@needs_posed
 def test_retrieving_the_training_frames_themselves_gives_their_poses(tmp_path):
     scene = tmp_path / POSED_SCENE
     for copy in ("seq-01", "seq-02"):  # the test sequence: the training frames again
