@@ -191,10 +191,14 @@ def scene_route(scene: Scene, config: SynthConfig, seed: int = 0) -> np.ndarray 
 def sequence_trajectory(
     scene_name: str, sequence: int, config: SynthConfig | None = None, seed: int = 0
 ) -> tuple[Scene, HandheldTrajectory]:
-    """The scene and the exact trajectory that :func:`synthesize` used for one sequence."""
+    """The scene (with ``config.scene_content``) and the exact trajectory that
+    :func:`synthesize` used for one sequence. The trajectory keeps clear of the scene's shared
+    geometry (:func:`~blurloc.data.scenes.make_scene`'s photographed rooms), so both contents
+    are seen from the same poses."""
     config = config or SynthConfig()
-    scene = make_scene(scene_name)
+    scene = make_scene(scene_name, "photographs")
     rng = np.random.default_rng(sequence_seed(seed, scene_name, sequence))
     duration = config.frames_for(scene_name) / config.fps
     route = scene_route(scene, config, seed)
-    return scene, HandheldTrajectory(scene, duration, rng, config, route)
+    trajectory = HandheldTrajectory(scene, duration, rng, config, route)
+    return make_scene(scene_name, config.scene_content), trajectory

@@ -4,16 +4,18 @@ World frame: metres, z up, floor at z = 0. Each scene is a room of textured plan
 furniture made of boxes, lit by a few lamps, and has its own character: a chessboard on a table
 (chess), a brick fireplace (fire), a small desk corner with a head (heads), desks and screens
 (office), a pumpkin on a cabinet (pumpkin), a long kitchen (redkitchen), a staircase (stairs).
+Its surfaces are tiled photographs, or painted with a real room's edges added
+(:func:`make_scene`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .layout import SCENE_NAMES
-from .render import Light, Quad, Scene
+from .render import PAINTED, Light, Quad, Scene
 
 Vec = tuple[float, float, float]
 
@@ -106,11 +108,13 @@ def wall_picture(
     height: float,
     texture: str,
     tint: Vec = (1.0, 1.0, 1.0),
+    offset: float = 0.005,
 ) -> Quad:
-    """A picture hung 5 mm in front of a wall; ``normal_axis`` is the wall's inward normal."""
+    """A picture hung ``offset`` metres in front of a wall; ``normal_axis`` is the wall's
+    inward normal."""
     cx, cy, cz = center
-    offsets = {"+x": (0.005, 0, 0), "-x": (-0.005, 0, 0), "+y": (0, 0.005, 0), "-y": (0, -0.005, 0)}
-    ox, oy, oz = offsets[normal_axis]
+    axis = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0)}[normal_axis]
+    ox, oy, oz = (offset * a for a in axis)
     if normal_axis in ("+y", "-y"):
         sign = 1 if normal_axis == "+y" else -1
         edge_u = (sign * width, 0, 0)
@@ -279,6 +283,140 @@ def stairs() -> Scene:
     )
 
 
+# The painted look: flat paint on the rooms' surfaces, and what gives real rooms their edges.
+
+SKIRTING = (0.3, 0.22, 0.16)
+FRAME = (0.1, 0.09, 0.08)
+
+
+def framed_picture(
+    center: Vec, normal_axis: str, width: float, height: float, border: float = 0.04
+) -> Quad:
+    """A dark frame ``border`` metres wide around a picture of the given size (2 mm behind it)."""
+    size = (width + 2 * border, height + 2 * border)
+    return wall_picture(center, normal_axis, *size, "flat", FRAME, offset=0.003)
+
+
+def skirting(width: float, depth: float, height: float = 0.08) -> list[Quad]:
+    """Skirting boards ``height`` metres high along the four walls of a room (1 cm in front)."""
+    w, d, h, e = width, depth, height, 0.01
+    return [
+        _quad((0, e, h), (w, 0, 0), (0, 0, -h), "flat", None, SKIRTING),
+        _quad((w, d - e, h), (-w, 0, 0), (0, 0, -h), "flat", None, SKIRTING),
+        _quad((e, d, h), (0, -d, 0), (0, 0, -h), "flat", None, SKIRTING),
+        _quad((w - e, 0, h), (0, d, 0), (0, 0, -h), "flat", None, SKIRTING),
+    ]
+
+
+def clutter(table: Vec, size: Vec, count: int, seed: int) -> list[Quad]:
+    """``count`` small boxes of flat colours standing on a table top at ``table`` (min x, y and
+    the top's z) of ``size`` (x, y; z unused)."""
+    rng = np.random.default_rng(seed)
+    colours = [(0.85, 0.85, 0.82), (0.08, 0.08, 0.09), (0.7, 0.12, 0.08), (0.12, 0.25, 0.55),
+               (0.9, 0.7, 0.15), (0.2, 0.45, 0.25)]  # fmt: skip
+    quads = []
+    for _ in range(count):
+        side = rng.uniform(0.06, 0.2, size=2)
+        x, y = (rng.uniform(0, 1, size=2) * (np.asarray(size[:2]) - side)) + table[:2]
+        tint = colours[rng.integers(len(colours))]
+        quads += box((x, y, table[2]), (*side, rng.uniform(0.04, 0.22)), "flat", None, tint)
+    return quads
+
+
+def _furnishings(name: str) -> list[Quad]:
+    """What the painted look adds to scene ``name``: frames round its pictures, skirting, doors,
+    windows, bookshelves and small objects, all on walls or on furniture (the camera's paths
+    keep clear of the photographed rooms' geometry, which they leave unchanged)."""
+    if name == "chess":
+        return [
+            *skirting(5.0, 4.0),
+            framed_picture((2.5, 3.99, 1.5), "-y", 1.2, 0.8),
+            framed_picture((4.99, 2.0, 1.4), "-x", 1.0, 1.0),
+            framed_picture((0.01, 2.0, 1.5), "+x", 1.2, 0.8),
+            wall_picture((4.99, 3.3, 1.0), "-x", 0.9, 2.0, "door", offset=0.012),
+            wall_picture((4.1, 3.99, 1.5), "-y", 1.0, 1.1, "window", offset=0.012),
+            wall_picture((0.8, 3.395, 0.8), "-y", 1.1, 1.5, "books", offset=0.0),
+            *clutter((1.95, 1.62, 0.74), (0.3, 0.7, 0), 3, 1),
+            *clutter((2.8, 1.62, 0.74), (0.28, 0.7, 0), 3, 2),
+        ]
+    if name == "fire":
+        return [
+            *skirting(4.5, 4.0),
+            framed_picture((2.25, 3.99, 1.85), "-y", 0.9, 0.6),
+            framed_picture((0.01, 1.8, 1.5), "+x", 1.0, 0.7),
+            wall_picture((3.8, 3.99, 1.1), "-y", 1.0, 1.8, "books", offset=0.012),
+            wall_picture((0.7, 3.99, 1.5), "-y", 1.0, 1.0, "window", offset=0.012),
+            wall_picture((4.49, 2.0, 1.0), "-x", 0.9, 2.0, "door", offset=0.012),
+            *clutter((2.0, 3.5, 1.18), (1.1, 0.4, 0), 3, 3),
+        ]
+    if name == "heads":
+        return [
+            *skirting(2.2, 2.0),
+            framed_picture((1.55, 1.99, 1.3), "-y", 0.6, 0.4),
+            framed_picture((2.19, 1.5, 1.2), "-x", 0.5, 0.5),
+            wall_picture((0.45, 1.99, 1.5), "-y", 0.7, 1.2, "books", offset=0.012),
+            wall_picture((0.01, 1.0, 1.5), "+x", 0.8, 0.9, "window", offset=0.012),
+            *box((1.0, 1.62, 0.72), (0.4, 0.14, 0.02), "flat", None, DARK),
+            *clutter((1.8, 1.25, 0.72), (0.35, 0.7, 0), 3, 4),
+        ]
+    if name == "office":
+        return [
+            *skirting(6.0, 5.0),
+            framed_picture((3.0, 4.99, 1.7), "-y", 1.6, 0.9),
+            framed_picture((5.99, 2.5, 1.5), "-x", 1.0, 0.8),
+            wall_picture((0.505, 2.0, 1.0), "+x", 1.6, 2.0, "books", offset=0.0),
+            wall_picture((5.2, 4.99, 1.5), "-y", 1.0, 1.1, "window", offset=0.012),
+            wall_picture((5.99, 4.2, 1.0), "-x", 0.9, 2.0, "door", offset=0.012),
+            *box((1.55, 3.75, 0.74), (0.45, 0.15, 0.02), "flat", None, DARK),
+            *box((3.95, 3.75, 0.74), (0.45, 0.15, 0.02), "flat", None, DARK),
+            *clutter((2.2, 3.65, 0.74), (0.35, 0.7, 0), 3, 5),
+            *clutter((4.6, 3.65, 0.74), (0.35, 0.7, 0), 3, 6),
+        ]
+    if name == "pumpkin":
+        return [
+            *skirting(4.0, 4.0),
+            framed_picture((2.0, 3.99, 1.75), "-y", 1.0, 0.7),
+            framed_picture((3.99, 2.2, 1.4), "-x", 0.9, 0.9),
+            wall_picture((0.605, 3.25, 0.9), "+x", 1.2, 1.7, "books", offset=0.0),
+            wall_picture((3.99, 1.0, 1.0), "-x", 0.9, 2.0, "door", offset=0.012),
+            wall_picture((3.4, 3.99, 1.85), "-y", 0.7, 0.8, "window", offset=0.012),
+            *clutter((1.45, 3.35, 0.9), (0.3, 0.5, 0), 2, 7),
+            *clutter((2.2, 3.35, 0.9), (0.35, 0.5, 0), 2, 8),
+        ]
+    if name == "redkitchen":
+        red = (0.75, 0.12, 0.1)
+        doors = [
+            wall_picture((0.8 + 0.65 * i, 2.395, 0.46), "-y", 0.6, 0.8, "door", red, offset=0.0)
+            for i in range(8)
+        ]
+        doors += [
+            wall_picture((0.8 + 0.65 * i, 2.645, 1.85), "-y", 0.6, 0.66, "door", red, offset=0.0)
+            for i in range(8)
+        ]
+        return [
+            *skirting(7.0, 3.0),
+            framed_picture((0.01, 1.5, 1.5), "+x", 1.0, 0.8),
+            *doors,
+            *clutter((0.6, 2.45, 0.92), (1.8, 0.3, 0), 3, 9),
+            *clutter((3.2, 2.45, 0.92), (2.3, 0.3, 0), 3, 10),
+        ]
+    return [  # stairs
+        *skirting(2.4, 6.0),
+        framed_picture((2.39, 3.5, 2.2), "-x", 0.8, 0.6),
+        framed_picture((0.01, 2.5, 1.8), "+x", 0.7, 0.5),
+        wall_picture((1.2, 5.99, 3.16), "-y", 0.9, 2.0, "door", offset=0.012),
+        wall_picture((0.01, 4.5, 2.9), "+x", 0.9, 1.0, "window", offset=0.012),
+        wall_picture((2.39, 1.0, 1.3), "-x", 0.8, 1.6, "books", offset=0.012),
+    ]
+
+
+def _paint(quad: Quad) -> Quad:
+    """``quad`` with a painted texture in place of a photograph in PAINTED."""
+    if quad.texture not in PAINTED:
+        return quad
+    return replace(quad, texture=f"painted-{quad.texture}")
+
+
 SCENES = {
     "chess": chess,
     "fire": fire,
@@ -343,8 +481,30 @@ def camera_region(name: str) -> CameraRegion:
     return CAMERA_REGIONS[name]
 
 
-def make_scene(name: str) -> Scene:
-    """The stand-in scene called ``name`` (one of :data:`SCENE_NAMES`)."""
+def make_scene(name: str, content: str = "painted") -> Scene:
+    """The stand-in scene called ``name`` (one of :data:`SCENE_NAMES`).
+
+    Parameters
+    ----------
+    name : str
+        The scene.
+    content : str
+        "photographs": rooms of tiled photographs (gravel, grass, brick); "painted": the same
+        rooms with those surfaces painted flat (a weak texture left,
+        :data:`~blurloc.data.render.PAINT_DETAIL`), plus what gives real rooms their strong
+        edges: frames round the pictures, skirting, doors, windows, bookshelves, small objects.
+
+    Returns
+    -------
+    Scene
+        The scene.
+    """
     if name not in SCENES:
         raise ValueError(f"unknown scene {name!r}; choose from {', '.join(SCENE_NAMES)}")
-    return SCENES[name]()
+    if content not in ("painted", "photographs"):
+        raise ValueError(f"unknown scene content {content!r}; choose painted or photographs")
+    scene = SCENES[name]()
+    if content == "photographs":
+        return scene
+    quads = (*map(_paint, scene.quads), *_furnishings(name))
+    return Scene(scene.name, quads, scene.lights, scene.ambient, scene.min_clearance_m)

@@ -3,7 +3,9 @@ orchestration (every sequence of every scene, in worker processes, under the ren
 
 Each stored frame is made the way the GoPro deblurring benchmark is made: the camera moves along a
 continuous handheld trajectory, sharp frames are rendered at poses spread over the exposure, and
-their average *in linear light* (gamma 2.2) is the blurred frame, plus sensor noise. Beside it the
+their average *in linear light* (gamma 2.2) is the blurred frame, which the camera model
+(:mod:`~blurloc.data.camera_model`) turns into the stored frame: optics blur, sensor noise,
+encoding. Beside it the
 stand-in stores the sharp render at mid-exposure (the ground truth that real 7-Scenes lacks), the
 pose at mid-exposure, the depth, and per-frame blur metadata.
 
@@ -39,8 +41,8 @@ from tqdm.auto import tqdm
 
 from ..files import atomic_path
 from ..geometry import intrinsics
-from ..images import to_uint8
 from ..processes import watch_parent
+from .camera_model import capture
 from .camera_motion import (
     ROUTE_UNITS_PER_1000_FRAMES,
     HandheldTrajectory,
@@ -123,12 +125,10 @@ def render_sequence(
         blurred, sharp, depth, blur = render_exposure(
             scene, trajectory, frame / config.fps, config, camera
         )
-        noise = (
-            noise_rng.normal(0.0, config.noise_sigma, blurred.shape) if config.noise_sigma else None
-        )
+        color, sharp = capture(blurred, sharp, config, noise_rng)
         stem = folder / f"frame-{frame:06d}"
-        cv2.imwrite(f"{stem}.color.png", to_uint8(blurred, noise)[..., ::-1])
-        cv2.imwrite(f"{stem}.sharp.png", to_uint8(sharp)[..., ::-1])
+        cv2.imwrite(f"{stem}.color.png", color[..., ::-1])
+        cv2.imwrite(f"{stem}.sharp.png", sharp[..., ::-1])
         depth_mm = np.clip(np.round(depth * 1000.0), 0, 65535).astype(np.uint16)
         cv2.imwrite(f"{stem}.depth.png", depth_mm)
         pose = trajectory.poses([frame / config.fps])[0]

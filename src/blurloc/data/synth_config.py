@@ -27,6 +27,21 @@ MIN_SIZE, MAX_SIZE = 8, 4096
 MAX_BLUR_STRENGTH = 10.0
 #: Most rays per pixel side (64 a pixel).
 MAX_SUPERSAMPLE = 8
+#: What the scenes' surfaces are made of: "painted" (flat paint with a weak texture, strong edges
+#: at objects, frames, doors, windows and bookshelves) or "photographs" (tiled photographs of
+#: gravel, grass and brick: the stand-in's first look).
+SCENE_CONTENTS = ("painted", "photographs")
+#: The settings of the stand-in's first look (photographed surfaces, no camera model, Gaussian
+#: noise of sigma 0.01 on the encoded intensities): the values that render it byte for byte.
+PREVIOUS_LOOK = {
+    "scene_content": "photographs",
+    "exposure_gain": 1.0,
+    "optics_blur_px": 0.0,
+    "shot_noise": 0.0,
+    "read_noise": 0.0,
+    "jpeg_quality": 0,
+    "noise_sigma": 0.01,
+}
 
 
 def is_integer(value: object) -> bool:
@@ -47,7 +62,21 @@ class SynthConfig:
     Every field is checked on construction; a ValueError names the field and its ``blurloc
     synth`` option: width and height in [MIN_SIZE, MAX_SIZE] px, at least 2 frames per
     sequence, ``blur_strength`` in [0, MAX_BLUR_STRENGTH], ``noise_sigma`` in [0, 1],
-    ``route_share`` in [0, 1], ``supersample`` an integer in [1, MAX_SUPERSAMPLE].
+    ``route_share`` in [0, 1], ``supersample`` an integer in [1, MAX_SUPERSAMPLE],
+    ``scene_content`` one of SCENE_CONTENTS, ``exposure_gain`` in (0, 100], ``optics_blur_px``
+    in [0, 10], ``shot_noise`` and ``read_noise`` in [0, 1], ``jpeg_quality`` an integer in
+    [0, 100].
+
+    The camera model (:mod:`~blurloc.data.camera_model`): the rendered linear light is
+    multiplied by ``exposure_gain``, blurred by the optics (a Gaussian of sigma
+    ``optics_blur_px``), given signal-dependent sensor noise of variance
+    ``shot_noise * x + read_noise**2`` at linear signal x (photon shot noise and read noise),
+    gamma-encoded, given ``noise_sigma`` of Gaussian noise on the encoded intensities, quantised
+    and, with ``jpeg_quality`` > 0, JPEG-compressed at that quality. The sharp frame passes the
+    same gain and optics, without noise or compression. The defaults (painted rooms, gain 1.6,
+    optics 0.4 px, shot noise 2e-4, read noise 0.004, no encoded noise, no JPEG) are chosen to
+    give the image statistics of real Kinect frames at 160x120
+    (``benchmarks/bench_realism.py``); :data:`PREVIOUS_LOOK` renders the first look.
 
     ``supersample`` is how many rays per pixel side every render of the exposure casts (their
     mean is the pixel, in linear light): a camera's pixel integrates the light over its area,
@@ -70,7 +99,7 @@ class SynthConfig:
     height: int = 120
     frames_per_sequence: int = 1000  # as 7-Scenes; stairs gets half (500)
     blur_strength: float = 2.2
-    noise_sigma: float = 0.01  # Gaussian sensor noise on [0, 1] gamma-encoded intensities
+    noise_sigma: float = 0.0  # Gaussian noise on [0, 1] gamma-encoded intensities
     route_share: float = 0.9  # part of each walk that follows the scene's shared route
     max_sample_spacing_px: float = 1.0  # sub-exposure renders at most this far apart
     fps: float = 30.0
@@ -80,6 +109,12 @@ class SynthConfig:
         default_factory=lambda: dict(SEQUENCE_COUNTS)
     )
     supersample: int = 1  # rays per pixel side (1: one ray through each pixel's centre)
+    scene_content: str = "painted"  # one of SCENE_CONTENTS
+    exposure_gain: float = 1.6  # multiplies the rendered linear light
+    optics_blur_px: float = 0.4  # sigma of the optics' Gaussian blur, px
+    shot_noise: float = 2e-4  # variance of the sensor noise per unit linear signal
+    read_noise: float = 0.004  # sigma of the signal-independent sensor noise, linear light
+    jpeg_quality: int = 0  # JPEG quality of the stored frames (0: lossless PNG only)
 
     def __post_init__(self) -> None:
         for name, option in (("width", "--width"), ("height", "--height"),
@@ -99,6 +134,23 @@ class SynthConfig:
         if not is_integer(self.supersample) or not 1 <= self.supersample <= MAX_SUPERSAMPLE:
             raise ValueError(f"supersample (--supersample) must be an integer in "
                              f"[1, {MAX_SUPERSAMPLE}], got {self.supersample!r}")  # fmt: skip
+        if self.scene_content not in SCENE_CONTENTS:
+            choices = ", ".join(SCENE_CONTENTS)
+            raise ValueError(f"scene_content (--scene-content) must be one of {choices}, "
+                             f"got {self.scene_content!r}")  # fmt: skip
+        if not (np.isfinite(self.exposure_gain) and 0 < self.exposure_gain <= 100):
+            raise ValueError(f"exposure_gain (--exposure-gain) must be a finite number in "
+                             f"(0, 100], got {self.exposure_gain!r}")  # fmt: skip
+        for name, option, high in (("optics_blur_px", "--optics-blur", 10.0),
+                                   ("shot_noise", "--shot-noise", 1.0),
+                                   ("read_noise", "--read-noise", 1.0)):  # fmt: skip
+            value = getattr(self, name)
+            if not (np.isfinite(value) and 0 <= value <= high):
+                raise ValueError(f"{name} ({option}) must be a finite number in [0, {high}], "
+                                 f"got {value!r}")  # fmt: skip
+        if not is_integer(self.jpeg_quality) or not 0 <= self.jpeg_quality <= 100:
+            raise ValueError(f"jpeg_quality (--jpeg-quality) must be an integer in [0, 100], "
+                             f"got {self.jpeg_quality!r}")  # fmt: skip
         for name in ("max_sample_spacing_px", "fps", "step_median_m", "rotation_median_deg"):
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
@@ -117,6 +169,11 @@ class SynthConfig:
         """Tiny settings for CI: one training and one test sequence of 8 frames per scene."""
         counts = {name: (1, 1) for name in SCENE_NAMES}
         return replace(cls(frames_per_sequence=8, sequence_counts=counts), **overrides)
+
+    @classmethod
+    def previous_look(cls, **overrides) -> SynthConfig:
+        """The default settings with the stand-in's first look (:data:`PREVIOUS_LOOK`)."""
+        return cls(**{**PREVIOUS_LOOK, **overrides})
 
     def frames_for(self, scene: str) -> int:
         """Frames per sequence of ``scene`` (stairs sequences are half as long)."""
