@@ -41,6 +41,7 @@ def _warnings_to_stderr() -> Iterator[None]:
 
 def _synth(args: argparse.Namespace) -> int:
     from .data.synth import SynthConfig, synthesize
+    from .data.synth_config import PREVIOUS_LOOK
 
     overrides = {
         k: v
@@ -52,9 +53,17 @@ def _synth(args: argparse.Namespace) -> int:
             "noise_sigma": args.noise,
             "route_share": args.route_share,
             "supersample": args.supersample,
+            "scene_content": args.scene_content,
+            "exposure_gain": args.exposure_gain,
+            "optics_blur_px": args.optics_blur,
+            "shot_noise": args.shot_noise,
+            "read_noise": args.read_noise,
+            "jpeg_quality": args.jpeg_quality,
         }.items()
         if v is not None
     }
+    if args.previous_look:
+        overrides = {**PREVIOUS_LOOK, **overrides}
     config = SynthConfig.quick(**overrides) if args.quick else SynthConfig(**overrides)
     root = synthesize(
         args.out,
@@ -380,6 +389,8 @@ RESUME_TRAINING = ("--out keeps the last finished epoch or validation and histor
 
 def _add_synth_parser(commands: argparse._SubParsersAction) -> None:
     """Add ``blurloc synth`` and its options to ``commands``."""
+    from .data.synth_config import SCENE_CONTENTS
+
     synth = commands.add_parser("synth", help="render the synthetic 7-Scenes stand-in")
     synth.add_argument("--out", required=True, help="root folder to write (7-Scenes layout)")
     synth.add_argument("--scenes", nargs="+", help="scenes to render (default: all seven)")
@@ -389,7 +400,37 @@ def _add_synth_parser(commands: argparse._SubParsersAction) -> None:
     synth.add_argument("--width", type=int)
     synth.add_argument("--height", type=int)
     synth.add_argument("--blur-strength", type=float, help="exposure in frame intervals")
-    synth.add_argument("--noise", type=float, help="sensor noise sigma on [0, 1] intensities")
+    synth.add_argument(
+        "--noise", type=float, help="Gaussian noise sigma on [0, 1] encoded intensities (default 0)"
+    )
+    synth.add_argument(
+        "--scene-content",
+        choices=SCENE_CONTENTS,
+        help="painted rooms with real rooms' edges (default) or tiled photographs",
+    )
+    synth.add_argument(
+        "--exposure-gain", type=float, help="multiplies the rendered linear light (default 0.9)"
+    )
+    synth.add_argument(
+        "--optics-blur", type=float, help="sigma of the optics' Gaussian blur, px (default 0.4)"
+    )
+    synth.add_argument(
+        "--shot-noise",
+        type=float,
+        help="sensor noise variance per unit linear signal (default 2e-4)",
+    )
+    synth.add_argument(
+        "--read-noise", type=float, help="sensor read-noise sigma in linear light (default 0.006)"
+    )
+    synth.add_argument(
+        "--jpeg-quality", type=int, help="JPEG quality of the captured frames (default 0: no JPEG)"
+    )
+    synth.add_argument(
+        "--previous-look",
+        action="store_true",
+        help="the stand-in's first look: tiled photographs, no camera model, "
+        "noise 0.01 (other options given override it)",
+    )
     synth.add_argument("--route-share", type=float,
                        help="part of each walk on a route shared by the scene's sequences "
                             "(0-1; default 0.9; 0: independent sequences)")  # fmt: skip

@@ -8,8 +8,9 @@ package did before the setting existed (:func:`complete`):
 - a switch of the video network: off (:data:`VIDEO_SWITCHES_ADDED`, whatever its default is now);
 - a switch of a training run: off (False or None, :func:`switches_off`), so a run made before a
   switch existed is resumed when the switch is off and refused when it is on;
-- a rendering setting of the stand-in: its default (each new setting's default renders what the
-  renderer rendered before it existed).
+- a rendering setting of the stand-in: the value that renders what the renderer rendered before
+  it existed (``blurloc.data.synth_config.PREVIOUS_LOOK`` for the settings of its look, the
+  default for the others).
 
 A file completed so is then compared or used as it is; whatever differs (:func:`changes`) is
 named in the caller's refusal, with the command or option that remakes the file.

@@ -120,12 +120,13 @@ def manifest_expectations(root: str | os.PathLike) -> dict[str, tuple[int, int, 
 
 def is_up_to_date(manifest_path: Path, manifest: dict) -> bool:
     """True when the stand-in at ``manifest_path`` was rendered as ``manifest`` describes. A
-    setting added to :class:`SynthConfig` after it was rendered counts as its default
-    (:func:`blurloc.stored.complete`)."""
+    setting added to :class:`SynthConfig` after it was rendered counts as the value that renders
+    what the renderer rendered before (:func:`blurloc.stored.complete`): its value in
+    :data:`~blurloc.data.synth_config.PREVIOUS_LOOK`, or else its default."""
     try:
         stored = json.loads(manifest_path.read_text())
-        defaults = manifest_record(SynthConfig(), 0, [])["config"]
-        stored["config"] = complete(stored["config"], defaults)
+        before = manifest_record(SynthConfig.previous_look(), 0, [])["config"]
+        stored["config"] = complete(stored["config"], before)
         return stored == manifest
     except (OSError, ValueError, KeyError, TypeError):
         return False

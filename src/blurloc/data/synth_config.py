@@ -73,10 +73,13 @@ class SynthConfig:
     ``shot_noise * x + read_noise**2`` at linear signal x (photon shot noise and read noise),
     gamma-encoded, given ``noise_sigma`` of Gaussian noise on the encoded intensities, quantised
     and, with ``jpeg_quality`` > 0, JPEG-compressed at that quality. The sharp frame passes the
-    same gain and optics, without noise or compression. The defaults (painted rooms, gain 1.6,
-    optics 0.4 px, shot noise 2e-4, read noise 0.004, no encoded noise, no JPEG) are chosen to
-    give the image statistics of real Kinect frames at 160x120
-    (``benchmarks/bench_realism.py``); :data:`PREVIOUS_LOOK` renders the first look.
+    same gain and optics, without noise or compression. The defaults: painted rooms, gain 0.9
+    (the mean brightness of real Kinect frames), optics 0.4 px (with one ray per pixel it
+    stands for the lens and the pixel's area: a 1 px box has sigma 0.29 px), shot noise 2e-4
+    and read noise 0.006 (the noise sigma in the darker and the brighter halves of real Kinect
+    frames at 160x120), no encoded noise, no JPEG (Kinect frames are stored losslessly); they
+    are measured beside real frames by ``benchmarks/bench_realism.py``. :data:`PREVIOUS_LOOK`
+    renders the first look.
 
     ``supersample`` is how many rays per pixel side every render of the exposure casts (their
     mean is the pixel, in linear light): a camera's pixel integrates the light over its area,
@@ -110,10 +113,10 @@ class SynthConfig:
     )
     supersample: int = 1  # rays per pixel side (1: one ray through each pixel's centre)
     scene_content: str = "painted"  # one of SCENE_CONTENTS
-    exposure_gain: float = 1.6  # multiplies the rendered linear light
+    exposure_gain: float = 0.9  # multiplies the rendered linear light
     optics_blur_px: float = 0.4  # sigma of the optics' Gaussian blur, px
     shot_noise: float = 2e-4  # variance of the sensor noise per unit linear signal
-    read_noise: float = 0.004  # sigma of the signal-independent sensor noise, linear light
+    read_noise: float = 0.006  # sigma of the signal-independent sensor noise, linear light
     jpeg_quality: int = 0  # JPEG quality of the stored frames (0: lossless PNG only)
 
     def __post_init__(self) -> None:
