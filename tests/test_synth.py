@@ -4,6 +4,7 @@ motion statistics and determinism."""
 from __future__ import annotations
 
 import filecmp
+import hashlib
 import json
 import shutil
 from dataclasses import replace
@@ -15,7 +16,9 @@ import pytest
 from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
-from blurloc.data import check_data, load_split
+from blurloc.data import check_data, load_split, read_image
+from blurloc.data.camera_model import capture, optics_blur, sensor_noise
+from blurloc.data.real import posed_root
 from blurloc.data.render import Light, Quad, Scene, render
 from blurloc.data.scenes import REAL_MEAN_POSE_BASELINE, SCENE_NAMES, make_scene
 from blurloc.data.synth import (
@@ -28,6 +31,7 @@ from blurloc.data.synth import (
     split_sequences,
     synthesize,
 )
+from blurloc.data.synth_config import PREVIOUS_LOOK
 from blurloc.geometry import (
     frame_to_frame_motion,
     intrinsics,
@@ -36,6 +40,7 @@ from blurloc.geometry import (
     orthonormality_error,
     project,
 )
+from blurloc.images import linear_to_srgb, srgb_to_linear
 
 WIDTH, HEIGHT = 160, 120
 #: Largest median distance from a test position to the nearest training position, as a share of
@@ -142,7 +147,8 @@ def test_supersampling_integrates_each_pixel_without_moving_the_image() -> None:
 
 
 def test_no_exposure_and_no_noise_stores_the_sharp_frame(tmp_path: Path) -> None:
-    config = SynthConfig.quick(blur_strength=0.0, noise_sigma=0.0, frames_per_sequence=3)
+    config = SynthConfig.quick(blur_strength=0.0, shot_noise=0.0, read_noise=0.0,
+                               frames_per_sequence=3)  # fmt: skip
     synthesize(tmp_path, scenes=["heads"], config=config, workers=1, progress=False)
     sequence = load_split(tmp_path, "heads", "test")[0]
     for frame in sequence.frame_ids:
@@ -388,3 +394,112 @@ def test_sequences_on_a_shared_route_keep_clear_and_move_like_7scenes(scene_name
     assert np.median(turns) == pytest.approx(0.55, rel=0.15)
     # both sequences follow the same route, each from its own place on it: not the same path
     assert np.abs(poses[0][:, :3, 3] - poses[1][:, :3, 3]).max() > 0.1
+
+
+#: sha256 over the relative paths and bytes of every file that ``blurloc synth --quick --scenes
+#: heads --seed 0`` wrote under ``heads/`` before the painted rooms and the camera model existed.
+FIRST_LOOK_HEADS_SHA256 = "1ac1b6bae9ddaa2d45e52ecfc05ebccc64b0755c1b66e78ba656f6f528ffaa9a"
+
+
+def _tree_sha256(folder: Path) -> str:
+    digest = hashlib.sha256()
+    for path in sorted(p for p in folder.rglob("*") if p.is_file()):
+        digest.update(str(path.relative_to(folder.parent)).encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+def test_the_previous_look_renders_what_the_first_renderer_rendered(tmp_path: Path) -> None:
+    config = SynthConfig.quick(**PREVIOUS_LOOK)
+    root = synthesize(tmp_path / "previous", scenes=["heads"], config=config, workers=1,
+                      progress=False)  # fmt: skip
+    assert _tree_sha256(root / "heads") == FIRST_LOOK_HEADS_SHA256
+    new = synthesize(tmp_path / "new", scenes=["heads"], config=SynthConfig.quick(), workers=1,
+                     progress=False)  # fmt: skip
+    assert _tree_sha256(new / "heads") != FIRST_LOOK_HEADS_SHA256
+    for frame in ("pose.txt", "depth.png"):  # the same camera path and geometry behind the look
+        path = "heads/seq-01/frame-000004." + frame
+        assert filecmp.cmp(root / path, new / path, shallow=False) == (frame == "pose.txt")
+
+
+def test_a_stand_in_rendered_before_the_look_settings_is_the_previous_look(
+    quick_root: Path, tmp_path: Path
+) -> None:
+    """A manifest without the look's settings reads them as the previous look: rendering that
+    look again leaves the stand-in alone, rendering the default look renders it again."""
+    config = SynthConfig.quick(**PREVIOUS_LOOK)
+    root = synthesize(tmp_path / "old", scenes=["heads"], config=config, workers=1,
+                      progress=False)  # fmt: skip
+    path = root / "standin.json"
+    manifest = json.loads(path.read_text())
+    for name in PREVIOUS_LOOK:
+        if name != "noise_sigma":
+            del manifest["config"][name]
+    path.write_text(json.dumps(manifest))
+    stamp = path.stat().st_mtime_ns
+    synthesize(root, scenes=["heads"], config=config, progress=False)
+    assert path.stat().st_mtime_ns == stamp
+    synthesize(root, scenes=["heads"], config=SynthConfig.quick(), workers=1, progress=False)
+    assert json.loads(path.read_text())["config"]["scene_content"] == "painted"
+
+
+def test_sensor_noise_grows_with_brightness() -> None:
+    """Shot noise: the variance grows linearly with the linear signal, from the read noise's."""
+    rng = np.random.default_rng(0)
+    levels = np.float32([0.0, 0.1, 0.4, 0.9])
+    signal = np.broadcast_to(levels[:, None], (4, 20_000))
+    variance = sensor_noise(signal, 2e-4, 0.006, rng).var(axis=1)
+    assert np.all(np.diff(variance) > 0)
+    np.testing.assert_allclose(variance, 2e-4 * levels + 0.006**2, rtol=0.05)
+    config = SynthConfig(optics_blur_px=0.0, exposure_gain=1.0)
+    flat = np.full((120, 160, 3), 0.05, np.float32)
+    dark, _ = capture(flat, flat, config, rng)
+    bright, _ = capture(flat * 16, flat * 16, config, rng)
+    linear = [srgb_to_linear(image / 255.0) for image in (dark, bright)]
+    assert linear[1].std() > 2 * linear[0].std()  # in linear light, as a sensor's
+
+
+def test_optics_blur_lowers_the_high_frequencies() -> None:
+    """On a real frame, the optics' blur takes power from the high frequencies and keeps the
+    low ones and the mean."""
+    frame = next(iter(sorted(posed_root().glob("*/seq-*/frame-*.color.png"))))
+    image = cv2.resize(read_image(frame), (WIDTH, HEIGHT), interpolation=cv2.INTER_AREA)
+    linear = srgb_to_linear(image.astype(np.float32) / 255.0).mean(axis=2).astype(np.float32)
+    blurred = optics_blur(linear, 0.4)
+
+    def band_power(values: np.ndarray, low: float, high: float) -> float:
+        power = np.abs(np.fft.fft2(values - values.mean())) ** 2
+        radius = np.hypot(*np.meshgrid(np.fft.fftfreq(WIDTH), np.fft.fftfreq(HEIGHT)))
+        return float(power[(radius >= low) & (radius < high)].sum())
+
+    assert band_power(blurred, 0.3, 0.5) < 0.6 * band_power(linear, 0.3, 0.5)
+    assert band_power(blurred, 0.0, 0.05) > 0.95 * band_power(linear, 0.0, 0.05)
+    assert blurred.mean() == pytest.approx(linear.mean(), rel=1e-3)
+    assert optics_blur(linear, 0.0) is linear
+
+
+def test_painted_rooms_have_more_strong_edges() -> None:
+    """Seen from the same poses, the painted scenes have more strong edges (gradient over 0.1
+    per px on [0, 1] intensities) than the photographed ones."""
+    config = SynthConfig(frames_per_sequence=60)
+    edges = {}
+    for content in ("photographs", "painted"):
+        shares = []
+        for name in ("chess", "office"):
+            scene, trajectory = sequence_trajectory(name, 1, replace(config, scene_content=content))
+            linear, _ = render(scene, trajectory.poses([0.5])[0], intrinsics(WIDTH, HEIGHT),
+                               WIDTH, HEIGHT)  # fmt: skip
+            gray = (linear_to_srgb(linear) @ np.float32([0.299, 0.587, 0.114])).astype(np.float32)
+            dx, dy = cv2.Sobel(gray, cv2.CV_32F, 1, 0), cv2.Sobel(gray, cv2.CV_32F, 0, 1)
+            shares.append((np.hypot(dx, dy) / 8 > 0.1).mean())
+        edges[content] = np.mean(shares)
+    assert edges["painted"] > 1.5 * edges["photographs"]
+
+
+def test_bad_look_settings_are_refused() -> None:
+    for field, value in (("scene_content", "marble"), ("exposure_gain", 0.0),
+                         ("optics_blur_px", float("nan")), ("jpeg_quality", 50.0)):  # fmt: skip
+        with pytest.raises(ValueError, match=field):
+            SynthConfig(**{field: value})
+    with pytest.raises(ValueError, match="unknown scene content"):
+        make_scene("chess", "marble")

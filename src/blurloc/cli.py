@@ -412,7 +412,7 @@ def _add_synth_parser(commands: argparse._SubParsersAction) -> None:
         "--exposure-gain", type=float, help="multiplies the rendered linear light (default 0.9)"
     )
     synth.add_argument(
-        "--optics-blur", type=float, help="sigma of the optics' Gaussian blur, px (default 0.4)"
+        "--optics-blur", type=float, help="sigma of the optics' Gaussian blur, px (default 0.3)"
     )
     synth.add_argument(
         "--shot-noise",

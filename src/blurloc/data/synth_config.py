@@ -74,8 +74,8 @@ class SynthConfig:
     gamma-encoded, given ``noise_sigma`` of Gaussian noise on the encoded intensities, quantised
     and, with ``jpeg_quality`` > 0, JPEG-compressed at that quality. The sharp frame passes the
     same gain and optics, without noise or compression. The defaults: painted rooms, gain 0.9
-    (the mean brightness of real Kinect frames), optics 0.4 px (with one ray per pixel it
-    stands for the lens and the pixel's area: a 1 px box has sigma 0.29 px), shot noise 2e-4
+    (the mean brightness of real Kinect frames), optics 0.3 px (with one ray per pixel it
+    stands for the pixel's area, a 1 px box of sigma 0.29 px, and a sharp lens), shot noise 2e-4
     and read noise 0.006 (the noise sigma in the darker and the brighter halves of real Kinect
     frames at 160x120), no encoded noise, no JPEG (Kinect frames are stored losslessly); they
     are measured beside real frames by ``benchmarks/bench_realism.py``. :data:`PREVIOUS_LOOK`
@@ -114,7 +114,7 @@ class SynthConfig:
     supersample: int = 1  # rays per pixel side (1: one ray through each pixel's centre)
     scene_content: str = "painted"  # one of SCENE_CONTENTS
     exposure_gain: float = 0.9  # multiplies the rendered linear light
-    optics_blur_px: float = 0.4  # sigma of the optics' Gaussian blur, px
+    optics_blur_px: float = 0.3  # sigma of the optics' Gaussian blur, px
     shot_noise: float = 2e-4  # variance of the sensor noise per unit linear signal
     read_noise: float = 0.006  # sigma of the signal-independent sensor noise, linear light
     jpeg_quality: int = 0  # JPEG quality of the stored frames (0: lossless PNG only)
