@@ -1,7 +1,15 @@
-"""How the stand-in's frames differ from real camera frames: image statistics side by side.
+"""How the stand-in's frames differ from real camera frames, before (the stand-in's first look)
+and after (painted rooms and the camera model, the defaults): image statistics side by side.
 
-    python benchmarks/bench_realism.py [--standin data/standin] [--budget 200]
+    python benchmarks/bench_realism.py [--frames-per-scene 12] [--seed 0]
                                        [--out figures/bench_realism]
+
+The stand-in's frames are rendered here, before and after from the same poses: the first
+``--frames-per-scene`` frames spread over each scene's first test sequence, through the camera
+model that ``blurloc synth`` stores them through (:func:`blurloc.data.camera_model.capture`).
+A third set renders the after look with the exposure of the real Kinect (one frame interval,
+``blur_strength`` 1, where the stand-in stretches it to 2.2), to show how much of what still
+differs is the stand-in's stronger motion blur.
 
 Every image is turned gray and area-averaged to 160x120 (the stand-in's size; centre-cropped to
 4:3 first), then measured:
@@ -13,12 +21,14 @@ Every image is turned gray and area-averaged to 160x120 (the stand-in's size; ce
 - the share of flat pixels (gradient magnitude under 0.02 per px) and of edge pixels (over 0.1);
 - the noise sigma in the darker and in the brighter half of each image's pixels (split at its
   median): Immerkær's estimate (as :func:`blurloc.blur.estimate_noise_sigma`) over each half,
-  whose ratio shows whether the noise grows with brightness as a camera's shot noise does.
+  whose ratio shows whether the noise grows with brightness as a camera's shot noise does;
+- the mean brightness ([0, 1] gray, gamma-encoded).
 
-Image sets: the stand-in's sharp renders and blurred frames (test split, about ``--budget`` of
-each), the real TUM RGB-D frames of the development set (``samples/real``, Kinect), and the real
+Real sets: the TUM RGB-D frames of the development set (``samples/real``, Kinect) and the
 sharp photographs (scikit-image's). Each statistic is the median over a set with its 25th-75th
-percentiles. Writes ``OUT.md`` and ``OUT.csv`` with the command and the date.
+percentiles. Writes ``OUT.md`` and ``OUT.csv`` (with the command, the date and the render time
+per frame of each look) and ``OUT.png``/``.pdf``: the statistics side by side and example frames
+(real, before, after).
 """
 
 from __future__ import annotations
@@ -27,17 +37,21 @@ import argparse
 import datetime
 import itertools
 import sys
+import time
 from pathlib import Path
 
 import cv2
 import numpy as np
 
 from blurloc.blur import to_gray
-from blurloc.config import write_rows
 from blurloc.data import read_image
+from blurloc.data.camera_model import capture
 from blurloc.data.real import load_photographs, posed_root, verify
-from blurloc.data.samples import split_frames
-from blurloc.files import atomic_path
+from blurloc.data.scenes import SCENE_NAMES
+from blurloc.data.synth import SynthConfig, render_exposure, sequence_trajectory, split_sequences
+from blurloc.geometry import intrinsics
+from blurloc.plots import plot_realism, save_figure
+from blurloc.tables import save_table
 
 SIZE = (160, 120)
 STATISTICS = (
@@ -47,7 +61,9 @@ STATISTICS = (
     "edge share",
     "noise sigma, dark half",
     "noise sigma, bright half",
+    "mean brightness",
 )
+REAL = "real Kinect frames (TUM fr1_rpy)"
 
 
 def at_standin_size(image: np.ndarray) -> np.ndarray:
@@ -103,58 +119,99 @@ def statistics(image: np.ndarray) -> list[float]:
         float((gradient < 0.02).mean()),
         float((gradient > 0.1).mean()),
         *noise_by_brightness(gray),
+        float(gray.mean()),
     ]
 
 
-def image_sets(standin: Path, budget: int) -> dict[str, list[np.ndarray]]:
-    """The images of each set, by the set's label."""
-    frames = split_frames(standin, "test", budget)
-    return {
-        "stand-in sharp renders": [read_image(s.path(f, "sharp")) for _, s, f in frames],
-        "stand-in blurred frames": [read_image(s.path(f, "color")) for _, s, f in frames],
-        "real TUM RGB-D frames (Kinect)": [
-            read_image(path) for path in sorted(posed_root().glob("*/seq-*/frame-*.color.png"))
-        ],
-        "real sharp photographs": list(load_photographs("sharp").values()),
-    }
+def render_looks(
+    looks: dict[str, SynthConfig], frames_per_scene: int, seed: int
+) -> dict[str, tuple[list, list, float]]:
+    """Per look: its captured (blurred) and sharp frames (uint8 RGB) and its render time per
+    frame in seconds (exposure and camera model). The looks take turns frame by frame, so that
+    other work on the machine slows them alike."""
+    blurred = {label: [] for label in looks}
+    sharp = {label: [] for label in looks}
+    seconds = dict.fromkeys(looks, 0.0)
+    for scene_name in SCENE_NAMES:
+        paths = {}
+        for label, config in looks.items():
+            sequence = split_sequences(scene_name, config)[1][0]
+            paths[label] = (*sequence_trajectory(scene_name, sequence, config, seed),
+                            np.random.default_rng([seed, sequence]))  # fmt: skip
+        count = next(iter(looks.values())).frames_for(scene_name)
+        for frame in np.linspace(0, count - 1, frames_per_scene).round():
+            for label, config in looks.items():
+                scene, trajectory, rng = paths[label]
+                camera = intrinsics(config.width, config.height)
+                start = time.perf_counter()
+                linear, middle, _, _ = render_exposure(
+                    scene, trajectory, frame / config.fps, config, camera
+                )
+                color, sharp_frame = capture(linear, middle, config, rng)
+                seconds[label] += time.perf_counter() - start
+                blurred[label].append(color)
+                sharp[label].append(sharp_frame)
+    return {label: (blurred[label], sharp[label], seconds[label] / len(blurred[label]))
+            for label in looks}  # fmt: skip
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--standin", default="data/standin", help="stand-in root")
-    parser.add_argument("--budget", type=int, default=200, help="stand-in test frames to read")
+    parser.add_argument("--frames-per-scene", type=int, default=12,
+                        help="stand-in frames per scene and look")  # fmt: skip
+    parser.add_argument("--seed", type=int, default=0, help="seed of the trajectories and noise")
     parser.add_argument("--out", default="figures/bench_realism", help="output path, no suffix")
     args = parser.parse_args()
-    if not (Path(args.standin) / "standin.json").is_file():
-        parser.error(f"--standin {args.standin}: no stand-in there (make one with blurloc synth)")
     verify()
-    rows = []
-    for label, images in image_sets(Path(args.standin), args.budget).items():
+    looks = {
+        "before": SynthConfig.previous_look(),
+        "after": SynthConfig(),
+        "after, blur strength 1": SynthConfig(blur_strength=1.0),
+    }
+    sets = {
+        REAL: [read_image(path) for path in sorted(posed_root().glob("*/seq-*/frame-*.color.png"))]
+    }
+    render_looks(looks, 1, args.seed)  # textures and atlases made before any render is timed
+    seconds = {}
+    for label, (blurred, sharp, seconds[label]) in render_looks(
+        looks, args.frames_per_scene, args.seed
+    ).items():
+        sets[f"{label}: blurred"] = blurred
+        if label != "after, blur strength 1":
+            sets[f"{label}: sharp"] = sharp
+    sets["real sharp photographs"] = list(load_photographs("sharp").values())
+    summary: dict[str, dict[str, tuple[float, float, float]]] = {name: {} for name in STATISTICS}
+    for label, images in sets.items():
         values = np.array([statistics(image) for image in images])
         low, median, high = np.percentile(values, [25, 50, 75], axis=0)
         for name, a, b, c in zip(STATISTICS, low, median, high, strict=True):
-            rows.append({"images": label, "n": len(images), "statistic": name,
-                         "median": f"{b:.4g}", "25th-75th": f"{a:.4g} to {c:.4g}"})  # fmt: skip
+            summary[name][label] = (float(a), float(b), float(c))
         print(label, len(images), [f"{v:.4g}" for v in median])
     command = "python " + " ".join(sys.argv)
     date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    write_rows(rows, out.with_suffix(".csv"))
-    lines = [
-        "# The stand-in's frames beside real camera frames (at 160x120)",
+    table = [{"statistic": name} | {f"{label} (n = {len(sets[label])})":
+             f"{b:.4g} ({a:.4g} to {c:.4g})" for label, (a, b, c) in summary[name].items()}
+             for name in STATISTICS]  # fmt: skip
+    ratio = seconds["after"] / seconds["before"]
+    caption = "\n".join([
+        "# The stand-in's frames beside real camera frames (at 160x120), before and after",
         "",
-        f"Command: `{command}`; {date}. Gray, centre-cropped to 4:3, area-averaged to 160x120.",
-        "",
-        "| statistic | " + " | ".join(dict.fromkeys(r["images"] for r in rows)) + " |",
-        "|---|" + "---|" * len(dict.fromkeys(r["images"] for r in rows)),
-    ]
-    for name in STATISTICS:
-        cells = [f"{r['median']} ({r['25th-75th']})" for r in rows if r["statistic"] == name]
-        lines.append(f"| {name} | " + " | ".join(cells) + " |")
-    with atomic_path(out.with_suffix(".md")) as path:
-        path.write_text("\n".join(lines) + "\n")
-    print(f"wrote {out.with_suffix('.md')} and .csv")
+        f"Command: `{command}`; {date}. Gray, centre-cropped to 4:3, area-averaged to 160x120; "
+        "median (25th to 75th percentile) over each set. Before: the stand-in's first look "
+        "(`blurloc synth --previous-look`); after: the defaults (painted rooms, camera model); "
+        "both from the same poses. Render time per frame (exposure and camera model, one "
+        f"process): before {seconds['before'] * 1000:.0f} ms, after "
+        f"{seconds['after'] * 1000:.0f} ms ({ratio:.2f}x).",
+    ])  # fmt: skip
+    save_table(table, out.parent, out.name, caption=caption)
+    examples = {
+        "real": sets[REAL][:: max(1, len(sets[REAL]) // 6)][:6],
+        "before": sets["before: blurred"][:: args.frames_per_scene][:6],
+        "after": sets["after: blurred"][:: args.frames_per_scene][:6],
+    }
+    save_figure(plot_realism(summary, examples), out.parent, out.name)
+    print(f"wrote {out}.md, .csv, .png and .pdf")
 
 
 if __name__ == "__main__":

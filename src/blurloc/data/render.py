@@ -449,6 +449,9 @@ def render_poses(
         distance = depths[visible] * ray_length[visible]  # along the ray
         offset = np.repeat(np.abs(offset_n[:, index]).astype(np.float32), per_pose[:, index])
         cosine = np.maximum(offset / distance, np.float32(0.05))
+        if quad.texture == "flat":  # every texel of every level is 1: the albedo is the tint
+            np.multiply(np.float32(quad.tint), light[:, None], out=shaded[visible])
+            continue
         footprint = distance * np.float32(arrays["texels_per_metre"][index] / focal)
         footprint /= np.sqrt(cosine)
         texels = arrays["texels"][index].astype(np.float32)

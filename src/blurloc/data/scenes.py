@@ -336,8 +336,8 @@ def _furnishings(name: str) -> list[Quad]:
             wall_picture((4.99, 3.3, 1.0), "-x", 0.9, 2.0, "door", offset=0.012),
             wall_picture((4.1, 3.99, 1.5), "-y", 1.0, 1.1, "window", offset=0.012),
             wall_picture((0.8, 3.395, 0.8), "-y", 1.1, 1.5, "books", offset=0.0),
-            *clutter((1.95, 1.62, 0.74), (0.3, 0.7, 0), 9, 1),
-            *clutter((2.8, 1.62, 0.74), (0.28, 0.7, 0), 9, 2),
+            *clutter((1.95, 1.62, 0.74), (0.3, 0.7, 0), 6, 1),
+            *clutter((2.8, 1.62, 0.74), (0.28, 0.7, 0), 6, 2),
         ]
     if name == "fire":
         return [
@@ -347,7 +347,7 @@ def _furnishings(name: str) -> list[Quad]:
             wall_picture((3.8, 3.99, 1.1), "-y", 1.0, 1.8, "books", offset=0.012),
             wall_picture((0.7, 3.99, 1.5), "-y", 1.0, 1.0, "window", offset=0.012),
             wall_picture((4.49, 2.0, 1.0), "-x", 0.9, 2.0, "door", offset=0.012),
-            *clutter((2.0, 3.5, 1.18), (1.1, 0.4, 0), 9, 3),
+            *clutter((2.0, 3.5, 1.18), (1.1, 0.4, 0), 6, 3),
         ]
     if name == "heads":
         return [
@@ -357,7 +357,7 @@ def _furnishings(name: str) -> list[Quad]:
             wall_picture((0.45, 1.99, 1.5), "-y", 0.7, 1.2, "books", offset=0.012),
             wall_picture((0.01, 1.0, 1.5), "+x", 0.8, 0.9, "window", offset=0.012),
             *box((1.0, 1.62, 0.72), (0.4, 0.14, 0.02), "flat", None, DARK),
-            *clutter((1.8, 1.25, 0.72), (0.35, 0.7, 0), 9, 4),
+            *clutter((1.8, 1.25, 0.72), (0.35, 0.7, 0), 6, 4),
         ]
     if name == "office":
         return [
@@ -369,8 +369,8 @@ def _furnishings(name: str) -> list[Quad]:
             wall_picture((5.99, 4.2, 1.0), "-x", 0.9, 2.0, "door", offset=0.012),
             *box((1.55, 3.75, 0.74), (0.45, 0.15, 0.02), "flat", None, DARK),
             *box((3.95, 3.75, 0.74), (0.45, 0.15, 0.02), "flat", None, DARK),
-            *clutter((2.2, 3.65, 0.74), (0.35, 0.7, 0), 9, 5),
-            *clutter((4.6, 3.65, 0.74), (0.35, 0.7, 0), 9, 6),
+            *clutter((2.2, 3.65, 0.74), (0.35, 0.7, 0), 6, 5),
+            *clutter((4.6, 3.65, 0.74), (0.35, 0.7, 0), 6, 6),
         ]
     if name == "pumpkin":
         return [
@@ -380,8 +380,8 @@ def _furnishings(name: str) -> list[Quad]:
             wall_picture((0.605, 3.25, 0.9), "+x", 1.2, 1.7, "books", offset=0.0),
             wall_picture((3.99, 1.0, 1.0), "-x", 0.9, 2.0, "door", offset=0.012),
             wall_picture((3.4, 3.99, 1.85), "-y", 0.7, 0.8, "window", offset=0.012),
-            *clutter((1.45, 3.35, 0.9), (0.3, 0.5, 0), 6, 7),
-            *clutter((2.2, 3.35, 0.9), (0.35, 0.5, 0), 6, 8),
+            *clutter((1.45, 3.35, 0.9), (0.3, 0.5, 0), 4, 7),
+            *clutter((2.2, 3.35, 0.9), (0.35, 0.5, 0), 4, 8),
         ]
     if name == "redkitchen":
         red = (0.75, 0.12, 0.1)
@@ -397,8 +397,8 @@ def _furnishings(name: str) -> list[Quad]:
             *skirting(7.0, 3.0),
             framed_picture((0.01, 1.5, 1.5), "+x", 1.0, 0.8),
             *doors,
-            *clutter((0.6, 2.45, 0.92), (1.8, 0.3, 0), 9, 9),
-            *clutter((3.2, 2.45, 0.92), (2.3, 0.3, 0), 9, 10),
+            *clutter((0.6, 2.45, 0.92), (1.8, 0.3, 0), 6, 9),
+            *clutter((3.2, 2.45, 0.92), (2.3, 0.3, 0), 6, 10),
         ]
     return [  # stairs
         *skirting(2.4, 6.0),

@@ -39,6 +39,7 @@ from .standin import (
     plot_blur_histogram,
     plot_blur_pairs,
     plot_exposure,
+    plot_realism,
     plot_scene_gallery,
     plot_trajectories,
 )
@@ -75,6 +76,7 @@ __all__ = [
     "plot_predicted_paths",
     "plot_predicted_views",
     "plot_ratios",
+    "plot_realism",
     "plot_restorations",
     "plot_scene_gallery",
     "plot_skimage_comparison",

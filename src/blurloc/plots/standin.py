@@ -186,3 +186,51 @@ def plot_blur_histogram(
     axis.set_title(f"Blur extent of {extent.size} stand-in frames (dotted: 3 px and 8 px)")
     axis.legend()
     return figure
+
+
+@styled
+def plot_realism(
+    statistics: dict[str, dict[str, tuple[float, float, float]]],
+    examples: dict[str, Sequence[np.ndarray]],
+) -> plt.Figure:
+    """Image statistics of stand-in and real frames side by side, and example frames.
+
+    Parameters
+    ----------
+    statistics : dict
+        ``{statistic: {image set: (25th percentile, median, 75th percentile)}}``; every
+        statistic lists the same image sets, in the order they are drawn (top to bottom).
+    examples : dict
+        ``{row label: images}``: example frames (H, W, 3) of each row, the same number per row.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    names = list(statistics)
+    sets = list(next(iter(statistics.values())))
+    columns = max(len(names), max(len(images) for images in examples.values()))
+    rows = len(examples)
+    figure = plt.figure(figsize=(2.3 * columns, 2.6 + 1.45 * rows))
+    grid = figure.add_gridspec(1 + rows, columns, height_ratios=[2.6] + [1.45] * rows)
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for column, name in enumerate(names):
+        axis = figure.add_subplot(grid[0, column])
+        for row, label in enumerate(sets):
+            low, median, high = statistics[name][label]
+            axis.errorbar(median, -row, xerr=[[median - low], [high - median]], fmt="o",
+                          color=colours[row % len(colours)], capsize=2)  # fmt: skip
+        axis.set_yticks(-np.arange(len(sets)), sets if column == 0 else [])
+        axis.set_title(name, fontsize="small")
+        axis.tick_params(axis="x", labelsize="x-small")
+    for row, (label, images) in enumerate(examples.items()):
+        for column in range(columns):
+            axis = figure.add_subplot(grid[1 + row, column])
+            axis.axis("off")
+            if column < len(images):
+                axis.imshow(images[column])
+            if column == 0:
+                axis.set_title(label, loc="left", fontsize="small")
+    figure.suptitle("Stand-in frames beside real camera frames at 160x120 "
+                    "(median and 25th-75th percentiles)")  # fmt: skip
+    return figure
