@@ -141,7 +141,9 @@ def test_readme_and_docs_show_only_figures_that_notebooks_or_benchmarks_write() 
     shown = {name for page in PAGES for name in figure_link.findall(page.read_text())}
     written = {file for files in EXPECTED_OUTPUTS.values() for file in files}
     benchmarks = (Path(__file__).parents[1] / "benchmarks").glob("*.py")
-    written |= {f"{script.stem}.{suffix}" for script in benchmarks for suffix in ("md", "csv")}
+    written |= {
+        f"{script.stem}.{suffix}" for script in benchmarks for suffix in ("md", "csv", "png", "pdf")
+    }
     assert {f"fig{n:02d}" for n in range(6, 11)} <= {name[:5] for name in shown}
     assert shown <= written, sorted(shown - written)
     for name in shown:
