@@ -24,6 +24,7 @@ from ..blur import (
     shake_path,
     trajectory_kernel,
 )
+from ..data.camera_model import jpeg, sensor_noise
 from ..data.samples import split_frames
 from ..data.sevenscenes import SequenceFrames, read_depth, read_image
 from ..data.stats import read_blur_metadata
@@ -200,19 +201,15 @@ def _blur_along_random_path(
 
 
 def _as_camera_frame(image: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    r"""An image in [0, 1] as a camera stores it: signal-dependent noise (read σ 0.003 or 0.01,
-    shot variance 0, 1e-4 or 4e-4 times the intensity), 8 bits, and half of the time JPEG at a
-    quality of 70 to 95.
-
-    .. math:: \sigma^2(I) = \sigma_r^2 + k I
-    """
-    variance = rng.choice([0.003, 0.01]) ** 2 + rng.choice([0.0, 1e-4, 4e-4]) * image
-    noisy = image + rng.normal(0.0, 1.0, image.shape) * np.sqrt(variance)
+    """An RGB image in [0, 1] as a camera stores it: signal-dependent noise
+    (:func:`~blurloc.data.camera_model.sensor_noise`: read σ 0.003 or 0.01, shot variance 0,
+    1e-4 or 4e-4 per unit intensity), 8 bits, and half of the time JPEG at a quality of 70 to
+    95 (:func:`~blurloc.data.camera_model.jpeg`)."""
+    read, shot = rng.choice([0.003, 0.01]), rng.choice([0.0, 1e-4, 4e-4])
+    noisy = image + sensor_noise(image, shot, read, rng)
     frame = np.round(np.clip(noisy, 0, 1) * 255).astype(np.uint8)
     if rng.random() < 0.5:
-        quality = int(rng.integers(70, 96))
-        _, encoded = cv2.imencode(".jpg", frame, [cv2.IMWRITE_JPEG_QUALITY, quality])
-        frame = cv2.imdecode(encoded, cv2.IMREAD_UNCHANGED)
+        frame = jpeg(frame, int(rng.integers(70, 96)))
     return frame
 
 
