@@ -1,7 +1,7 @@
 """The stages measured on the real development set (``samples/real``, see its README) beside
 the stand-in's test split, in one run.
 
-    python benchmarks/bench_real.py [--out figures/bench_real] [--standin data/standin]
+    python benchmarks/bench_real.py [--out-dir figures] [--standin data/standin]
                                     [--budget 600]
 
 Measures, with the package's current API and defaults:
@@ -24,15 +24,13 @@ of pixels, placed at the frame's median depth, between the poses of the frames b
 it, halved: px per frame interval. The motion during the exposure is that times exposure / frame
 interval; the Kinect's exposure is not recorded, and a constant factor leaves rank correlations
 unchanged.
-Lens distortion is ignored. Writes ``OUT.md`` and ``OUT.csv`` (one row per measure).
+Lens distortion is ignored. Writes ``<out-dir>/bench_real.md``, ``bench_real.csv`` (one row per
+measure) and ``bench_real-photographs.csv`` (one row per photograph).
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
-import datetime
-import sys
 from pathlib import Path
 
 import cv2
@@ -61,25 +59,27 @@ from blurloc.experiments.blur_estimation import (
     variance_of_laplacian,
 )
 from blurloc.metrics import psnr
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.trajectory import read_tum
 
 #: File stems of scikit-image photographs whose ``skimage.data`` function has another name.
 SKIMAGE_NAMES = {"ihc": "immunohistochemistry", "motorcycle_left": "stereo_motorcycle"}
 
 
-def detection_rows(rows: list[dict]) -> list[str]:
-    """Blur detection on real photographs; returns the Markdown lines of the per-image table.
-    The share is given over all photographs and over those the length model was not fitted on
-    (``TRAINING_PHOTOS``)."""
-    lines = ["| part | photograph | score (px) | reported | fitted on |", "|---|---|---|---|---|"]
+def detection_rows(rows: list[dict]) -> list[dict]:
+    """Blur detection on real photographs; returns one row per photograph (score, verdict,
+    whether the length model was fitted on it). The share is given over all photographs and over
+    those the length model was not fitted on (``TRAINING_PHOTOS``)."""
+    photographs = []
     for part, expected in (("sharp", False), ("blurred", True)):
         verdicts = {}
         for name, image in load_photographs(part).items():
             flagged, score = detect_blur(image)
             verdicts[name] = flagged == expected
             fitted = "yes" if SKIMAGE_NAMES.get(name, name) in TRAINING_PHOTOS else "no"
-            lines.append(f"| {part} | {name} | {score:.2f} | "
-                         f"{'blurred' if flagged else 'sharp'} | {fitted} |")  # fmt: skip
+            photographs.append({"part": part, "photograph": name, "score_px": round(score, 2),
+                                "reported": "blurred" if flagged else "sharp",
+                                "fitted_on": fitted})  # fmt: skip
         measure = "share reported sharp" if part == "sharp" else "share flagged blurred"
         unseen = [ok for name, ok in verdicts.items()
                   if SKIMAGE_NAMES.get(name, name) not in TRAINING_PHOTOS]  # fmt: skip
@@ -88,7 +88,7 @@ def detection_rows(rows: list[dict]) -> list[str]:
             rows.append({"stage": "detect_blur", "data": f"real {part} photographs{label}",
                          "n": len(values), "measure": measure, "value": share,
                          "target": ">= 0.9"})  # fmt: skip
-    return lines
+    return photographs
 
 
 def motion_rows(rows: list[dict]) -> None:
@@ -168,27 +168,9 @@ def tum_rows(rows: list[dict]) -> None:
                      "target": "accepted"})  # fmt: skip
 
 
-def write(out: Path, rows: list[dict], detection: list[str], command: str) -> None:
-    """Write ``out.csv`` and ``out.md`` with the command and the date."""
-    date = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with out.with_suffix(".csv").open("w", newline="") as handle:
-        handle.write(f"# {command}; {date}\n")
-        writer = csv.DictWriter(handle, fieldnames=list(rows[0]), lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
-    lines = [f"Today's stages on the real development set (`samples/real`). Command: `{command}`; "
-             f"{date}.", "", "| stage | data | n | measure | value | target |",
-             "|---|---|---|---|---|---|"]  # fmt: skip
-    lines += [f"| {r['stage']} | {r['data']} | {r['n']} | {r['measure']} | {r['value']} | "
-              f"{r['target']} |" for r in rows]  # fmt: skip
-    lines += ["", "Per photograph (`detect_blur`, default threshold):", "", *detection]
-    out.with_suffix(".md").write_text("\n".join(lines) + "\n")
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="figures/bench_real", help="output path without suffix")
+    add_out_dir_argument(parser)
     parser.add_argument(
         "--standin",
         default="data/standin",
@@ -208,7 +190,13 @@ def main() -> None:
     standin_rows(rows, Path(args.standin), args.budget)
     for row in rows:
         print(" | ".join(str(v) for v in row.values()))
-    write(Path(args.out), rows, detection, "python " + " ".join(sys.argv))
+    save_benchmark_tables(
+        "bench_real",
+        {"measures": rows, "photographs": detection},
+        args.out_dir,
+        "The stages on the real development set beside the stand-in",
+        notes="Photographs: `detect_blur` at its default threshold, one row each.",
+    )
 
 
 if __name__ == "__main__":

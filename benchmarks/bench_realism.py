@@ -2,7 +2,7 @@
 and after (painted rooms and the camera model, the defaults): image statistics side by side.
 
     python benchmarks/bench_realism.py [--frames-per-scene 12] [--seed 0]
-                                       [--out figures/bench_realism]
+                                       [--out-dir figures]
 
 The stand-in's frames are rendered here, before and after from the same poses: the first
 ``--frames-per-scene`` frames spread over each scene's first test sequence, through the camera
@@ -34,11 +34,8 @@ per frame of each look) and ``OUT.png``/``.pdf``: the statistics side by side an
 from __future__ import annotations
 
 import argparse
-import datetime
 import itertools
-import sys
 import time
-from pathlib import Path
 
 import cv2
 import numpy as np
@@ -51,7 +48,7 @@ from blurloc.data.scenes import SCENE_NAMES
 from blurloc.data.synth import SynthConfig, render_exposure, sequence_trajectory, split_sequences
 from blurloc.geometry import intrinsics
 from blurloc.plots import plot_realism, save_figure
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 SIZE = (160, 120)
 STATISTICS = (
@@ -160,7 +157,7 @@ def main() -> None:
     parser.add_argument("--frames-per-scene", type=int, default=12,
                         help="stand-in frames per scene and look")  # fmt: skip
     parser.add_argument("--seed", type=int, default=0, help="seed of the trajectories and noise")
-    parser.add_argument("--out", default="figures/bench_realism", help="output path, no suffix")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     verify()
     looks = {
@@ -187,31 +184,32 @@ def main() -> None:
         for name, a, b, c in zip(STATISTICS, low, median, high, strict=True):
             summary[name][label] = (float(a), float(b), float(c))
         print(label, len(images), [f"{v:.4g}" for v in median])
-    command = "python " + " ".join(sys.argv)
-    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    out = Path(args.out)
     table = [{"statistic": name} | {f"{label} (n = {len(sets[label])})":
              f"{b:.4g} ({a:.4g} to {c:.4g})" for label, (a, b, c) in summary[name].items()}
              for name in STATISTICS]  # fmt: skip
     ratio = seconds["after"] / seconds["before"]
-    caption = "\n".join([
-        "# The stand-in's frames beside real camera frames (at 160x120), before and after",
-        "",
-        f"Command: `{command}`; {date}. Gray, centre-cropped to 4:3, area-averaged to 160x120; "
-        "median (25th to 75th percentile) over each set. Before: the stand-in's first look "
-        "(`blurloc synth --previous-look`); after: the defaults (painted rooms, camera model); "
-        "both from the same poses. Render time per frame (exposure and camera model, one "
-        f"process): before {seconds['before'] * 1000:.0f} ms, after "
-        f"{seconds['after'] * 1000:.0f} ms ({ratio:.2f}x).",
-    ])  # fmt: skip
-    save_table(table, out.parent, out.name, caption=caption)
+    notes = (
+        "Gray, centre-cropped to 4:3, area-averaged to 160x120; median (25th to 75th "
+        "percentile) over each set. Before: the stand-in's first look (`blurloc synth "
+        "--previous-look`); after: the defaults (painted rooms, camera model); both from the "
+        "same poses. Render time per frame (exposure and camera model, one process): before "
+        f"{seconds['before'] * 1000:.0f} ms, after {seconds['after'] * 1000:.0f} ms "
+        f"({ratio:.2f}x)."
+    )
+    save_benchmark_tables(
+        "bench_realism",
+        {"statistics": table},
+        args.out_dir,
+        "The stand-in's frames beside real camera frames (at 160x120), before and after",
+        notes=notes,
+    )
     examples = {
         "real": sets[REAL][:: max(1, len(sets[REAL]) // 6)][:6],
         "before": sets["before: blurred"][:: args.frames_per_scene][:6],
         "after": sets["after: blurred"][:: args.frames_per_scene][:6],
     }
-    save_figure(plot_realism(summary, examples), out.parent, out.name)
-    print(f"wrote {out}.md, .csv, .png and .pdf")
+    save_figure(plot_realism(summary, examples), args.out_dir, "bench_realism")
+    print(f"wrote {args.out_dir}/bench_realism.md, .csv, .png and .pdf")
 
 
 if __name__ == "__main__":

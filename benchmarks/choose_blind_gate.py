@@ -4,7 +4,7 @@
     blurloc synth --quick --width 640 --height 480 --out /tmp/standin-640 --workers 1
     blurloc synth --quick --width 640 --height 480 --seed 1 --out /tmp/standin-640-s1 --workers 1
     python benchmarks/choose_blind_gate.py --standin /tmp/standin-160 /tmp/standin-640 \\
-        /tmp/standin-640-s1 [--out figures]
+        /tmp/standin-640-s1 [--out-dir figures]
 
 (each 640x480 render takes about 3 minutes on one core, the 160x120 one seconds; the script
 itself about 5 minutes).
@@ -34,15 +34,13 @@ to the strictest), prints them beside the ones the package ships,
 then reports, per set, the mean change with its 95 % bootstrap interval
 (:func:`blurloc.intervals.paired_interval` over frames), the median over restored frames and the
 counts, for the shipped gate and for the ungated rule (every frame the detector calls blurred is
-restored). Writes ``<out>/blind_wiener_gate.md`` and ``.csv``.
+restored). Writes ``<out-dir>/choose_blind_gate.md`` and ``.csv``.
 """
 
 from __future__ import annotations
 
 import argparse
-import datetime
 import itertools
-import sys
 from pathlib import Path
 
 import cv2
@@ -70,7 +68,7 @@ from blurloc.deconv import (
 from blurloc.images import srgb_to_linear, to_uint8
 from blurloc.intervals import paired_interval
 from blurloc.metrics import psnr
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 FIT_PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "camera", "immunohistochemistry",
               "hubble_deep_field", "cat")  # fmt: skip
@@ -189,6 +187,11 @@ def touched(rows: list[dict], thresholds: tuple[float, ...]) -> np.ndarray:
     ])  # fmt: skip
 
 
+#: Columns of the table: a set, a rule and :func:`outcome`'s measures (empty where it has none).
+COLUMNS = ("set", "rule", "frames", "restored", "mean_change_db", "interval_95_db",
+           "median_restored_db", "restored_with_gain")  # fmt: skip
+
+
 def outcome(rows: list[dict], thresholds: tuple[float, ...], interval: bool = False) -> dict:
     """Counts, mean change over all frames (passed-through frames: 0 dB; with ``interval`` its
     95 % bootstrap interval) and median change over restored frames, under a gate."""
@@ -233,7 +236,7 @@ def choose(rows: list[dict]) -> tuple[float, ...]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--standin", type=Path, nargs="+", required=True)
-    parser.add_argument("--out", default="figures")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     sets = {"fit: photographs, shake paths": photo_set(FIT_PHOTOS, 1, lines=False),
             "held-out photographs, shake and straight paths": photo_set(HELD_OUT_PHOTOS, 2, True),
@@ -247,22 +250,25 @@ def main() -> None:
     rows = []
     for name, frames in sets.items():
         for rule, thresholds in (("gated (shipped)", shipped), ("ungated", UNGATED)):
-            rows.append({"set": name, "rule": rule, **outcome(frames, thresholds, True)})
+            found = {"set": name, "rule": rule, **outcome(frames, thresholds, True)}
+            rows.append({column: found.get(column, "") for column in COLUMNS})
             print(rows[-1])
-    command = "python " + " ".join([Path(sys.argv[0]).as_posix(), *sys.argv[1:]])
-    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    columns = ("set", "rule", "frames", "restored", "mean_change_db", "interval_95_db",
-               "median_restored_db", "restored_with_gain")  # fmt: skip
-    caption = (
-        "Blind Wiener deblurring with and without its gate: PSNR change against the sharp frame "
-        f"(dB). Command: `{command}` ({date}). Gate chosen on the first set only: sinc fit >= "
-        f"{shipped[0]}, anisotropy >= {shipped[1]}, {shipped[2]} * (noise sigma / "
-        f"{GATE_REFERENCE_NOISE}) ** {shipped[3]} <= blur length at the analysis scale <= "
-        f"{shipped[4]} px (the grid's choice: {chosen}). Mean change over all frames, "
-        "passed-through frames counting 0 dB, with its 95 % bootstrap interval over frames; "
-        "median over the frames restored. Real frames without a reference: counts only."
+    notes = (
+        "PSNR change of blind Wiener deblurring against the sharp frame (dB), with and without "
+        f"its gate. Gate chosen on the first set only: sinc fit >= {shipped[0]}, anisotropy >= "
+        f"{shipped[1]}, {shipped[2]} * (noise sigma / {GATE_REFERENCE_NOISE}) ** {shipped[3]} <= "
+        f"blur length at the analysis scale <= {shipped[4]} px (the grid's choice: {chosen}). "
+        "Mean change over all frames, passed-through frames counting 0 dB, with its 95 % "
+        "bootstrap interval over frames; median over the frames restored. Real frames without a "
+        "reference: counts only."
     )
-    save_table(rows, args.out, "blind_wiener_gate", columns, caption)
+    save_benchmark_tables(
+        "choose_blind_gate",
+        {"outcomes": rows},
+        args.out_dir,
+        "Blind Wiener deblurring with and without its gate",
+        notes=notes,
+    )
 
 
 if __name__ == "__main__":

@@ -2,13 +2,14 @@
 deconvolution and linear oracles, per frame, on renders that differ in one setting.
 
     python benchmarks/deblur_bounds.py --roots data/bounds-ss1 data/bounds-ss2 data/bounds-ss3
-        [--lens-sigma 0.8] [--frames 30] [--every 3] [--out figures]
+        [--lens-sigma 0.8] [--frames 30] [--every 3] [--out-dir figures]
 
-Each ``--roots`` entry is a stand-in rendered without noise (``blurloc synth --noise 0``) with
-the same seed, scenes and size, so that frame i of every root has the same pose and blur and the
-roots differ in one setting (e.g. ``--supersample``). The first root is also scored with a
-Gaussian lens blur of ``--lens-sigma`` px applied in linear light to its blurred AND sharp frames
-after rendering (the renderer has no optics setting). A reference where b = c * x holds by
+Each ``--roots`` entry is a stand-in rendered without noise (``blurloc synth --shot-noise 0
+--read-noise 0 --optics-blur 0``, or ``--previous-look --noise 0``) with the same seed, scenes and
+size, so that frame i of every root has the same pose and blur and the roots differ in one setting
+(e.g. ``--supersample``). The first root is also scored with a Gaussian lens blur of
+``--lens-sigma`` px applied in linear light to its blurred AND sharp frames after rendering (so
+that the same renders serve). A reference where b = c * x holds by
 construction: the photo-video photographs at 160x120, each blurred with a 9 px line PSF in
 linear light and quantised to 8 bits.
 
@@ -20,15 +21,13 @@ the gain of Wiener deconvolution with those PSFs in linear light at the best of 
 (an oracle), and the gain of the per-frame 9 x 9
 least-squares oracle of ``linear_deblur_bounds.py`` (fitted on the frame's top half against its
 sharp frame, scored on the bottom half). Every setting is compared with the first root by the
-paired per-frame difference and its 95 % bootstrap interval. Writes ``<out>/deblur_bounds.md``
+paired per-frame difference and its 95 % bootstrap interval. Writes ``<out-dir>/deblur_bounds.md``
 and ``.csv``.
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
-from datetime import UTC, datetime
 from pathlib import Path
 
 import cv2
@@ -47,7 +46,7 @@ from blurloc.experiments.restoration_bounds import (
     standin_tile_kernels,
 )
 from blurloc.intervals import paired_interval
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 ORACLE_SIZE = 9
 MEASURES = ("blurred_psnr", "forward_psnr", "best_forward_psnr", "wiener_gain", "oracle_gain")
@@ -119,7 +118,7 @@ def main() -> None:
     parser.add_argument("--lens-sigma", type=float, default=0.8, help="Gaussian lens blur, px")
     parser.add_argument("--frames", type=int, default=30, help="test frames per sequence")
     parser.add_argument("--every", type=int, default=3, help="score every n-th of them")
-    parser.add_argument("--out", default="figures", help="folder of the table")
+    add_out_dir_argument(parser)
     args = parser.parse_args()
     first = standin_scores(args.roots[0], args.frames, args.every)
     rows = [summary_row(args.roots[0], first, None)]
@@ -128,13 +127,16 @@ def main() -> None:
     lensed = standin_scores(args.roots[0], args.frames, args.every, args.lens_sigma)
     rows.append(summary_row(f"{args.roots[0]} + lens {args.lens_sigma} px", lensed, first))
     rows.append(summary_row("photographs, 9 px line PSF", photo_scores(), None))
-    command = "python " + " ".join(sys.argv)
-    caption = (f"Restorability of camera blur (dB; differences: setting minus the first root, "
-               f"paired per frame, mean [95 % bootstrap interval]). `{command}`, "
-               f"{datetime.now(UTC):%Y-%m-%d %H:%M} UTC")  # fmt: skip
     compared = ("forward_psnr", "best_forward_psnr", "wiener_gain", "oracle_gain")
     columns = ["setting", "frames", *MEASURES, *(f"{m} - first" for m in compared)]
-    saved = save_table(rows, args.out, "deblur_bounds", columns=columns, caption=caption)
+    saved = save_benchmark_tables(
+        "deblur_bounds",
+        {"settings": [{column: row.get(column, "") for column in columns} for row in rows]},
+        args.out_dir,
+        "Restorability of camera blur",
+        notes="dB; differences: setting minus the first root, paired per frame, mean [95 % "
+        "bootstrap interval].",
+    )
     print(saved.markdown.read_text())
 
 

@@ -27,7 +27,6 @@ the manifest and lock (:mod:`~blurloc.data.manifest`).
 
 from __future__ import annotations
 
-import csv
 import json
 import multiprocessing
 import os
@@ -39,6 +38,7 @@ import cv2
 import numpy as np
 from tqdm.auto import tqdm
 
+from ..config import write_rows
 from ..files import atomic_path
 from ..geometry import intrinsics
 from ..processes import watch_parent
@@ -80,7 +80,13 @@ from .synth_config import (
     is_integer,
 )
 
+#: Columns of each sequence's ``blur.csv``: frame index, mean and largest extent over the image
+#: (px), direction (degrees, image y up) and the number of sharp renders averaged
+#: (:class:`~blurloc.data.exposure.BlurInfo`).
+BLUR_COLUMNS = ("frame", "mean_px", "max_px", "angle_deg", "samples")
+
 __all__ = [
+    "BLUR_COLUMNS",
     "FORMAT_VERSION",
     "LOCK_FILE",
     "MAX_BLUR_STRENGTH",
@@ -134,18 +140,15 @@ def render_sequence(
         pose = trajectory.poses([frame / config.fps])[0]
         np.savetxt(f"{stem}.pose.txt", pose, fmt="%.9e", delimiter="\t")
         rows.append(
-            [
-                frame,
-                f"{blur.mean_px:.4f}",
-                f"{blur.max_px:.4f}",
-                f"{blur.angle_deg:.2f}",
-                blur.samples,
-            ]
+            {
+                "frame": frame,
+                "mean_px": f"{blur.mean_px:.4f}",
+                "max_px": f"{blur.max_px:.4f}",
+                "angle_deg": f"{blur.angle_deg:.2f}",
+                "samples": blur.samples,
+            }
         )
-    with open(folder / "blur.csv", "w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(["frame", "mean_px", "max_px", "angle_deg", "samples"])
-        writer.writerows(rows)
+    write_rows(rows, folder / "blur.csv", columns=BLUR_COLUMNS)
     return frames
 
 
