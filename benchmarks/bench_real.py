@@ -33,97 +33,66 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import cv2
 import numpy as np
-from scipy.stats import spearmanr
 
-from blurloc.blur import detect_blur, estimate_motion_blur
-from blurloc.data import load_split
-from blurloc.data.real import (
-    POSED_SCENE,
-    load_pairs,
-    load_photographs,
-    posed_camera,
-    posed_frame_table,
-    posed_root,
-    tum_files,
-    verify,
-)
-from blurloc.deconv import deblur_blind
+from blurloc.blur import BLUR_THRESHOLD
+from blurloc.data.real import tum_files, verify
 from blurloc.experiments.blur_estimation import (
-    TRAINING_PHOTOS,
-    camera_motion_px,
     estimation_rows,
     estimation_summary,
     motion_rank_correlation,
-    variance_of_laplacian,
 )
-from blurloc.metrics import psnr
+from blurloc.experiments.real_frames import (
+    blur_measures,
+    motion_agreement,
+    pair_restorations,
+    photograph_verdicts,
+    posed_frames_with_motion,
+)
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.trajectory import read_tum
 
-#: File stems of scikit-image photographs whose ``skimage.data`` function has another name.
-SKIMAGE_NAMES = {"ihc": "immunohistochemistry", "motorcycle_left": "stereo_motorcycle"}
-
 
 def detection_rows(rows: list[dict]) -> list[dict]:
-    """Blur detection on real photographs; returns one row per photograph (score, verdict,
-    whether the length model was fitted on it). The share is given over all photographs and over
-    those the length model was not fitted on (``TRAINING_PHOTOS``)."""
-    photographs = []
-    for part, expected in (("sharp", False), ("blurred", True)):
-        verdicts = {}
-        for name, image in load_photographs(part).items():
-            flagged, score = detect_blur(image)
-            verdicts[name] = flagged == expected
-            fitted = "yes" if SKIMAGE_NAMES.get(name, name) in TRAINING_PHOTOS else "no"
-            photographs.append({"part": part, "photograph": name, "score_px": round(score, 2),
-                                "reported": "blurred" if flagged else "sharp",
-                                "fitted_on": fitted})  # fmt: skip
+    """Blur detection on real photographs; returns one row per photograph
+    (:func:`~blurloc.experiments.real_frames.photograph_verdicts`). The share is given over all
+    photographs and over those the length model was not fitted on."""
+    photographs = photograph_verdicts()
+    for part in ("sharp", "blurred"):
         measure = "share reported sharp" if part == "sharp" else "share flagged blurred"
-        unseen = [ok for name, ok in verdicts.items()
-                  if SKIMAGE_NAMES.get(name, name) not in TRAINING_PHOTOS]  # fmt: skip
-        for label, values in (("", list(verdicts.values())), (", not fitted on", unseen)):
-            share = round(float(np.mean(values)), 3)
+        mine = [row for row in photographs if row["part"] == part]
+        unseen = [row for row in mine if not row["fitted_on"]]
+        for label, chosen in (("", mine), (", not fitted on", unseen)):
+            share = round(float(np.mean([row["correct"] for row in chosen])), 3)
             rows.append({"stage": "detect_blur", "data": f"real {part} photographs{label}",
-                         "n": len(values), "measure": measure, "value": share,
+                         "n": len(chosen), "measure": measure, "value": share,
                          "target": ">= 0.9"})  # fmt: skip
     return photographs
 
 
 def motion_rows(rows: list[dict]) -> None:
-    """Rank correlations of blur measures with the camera's image motion on the posed frames."""
-    root = posed_root()
-    sequences = [s for split in ("train", "test") for s in load_split(root, POSED_SCENE, split)]
-    poses = np.concatenate([s.poses() for s in sequences])
-    images = np.concatenate([s.images() for s in sequences])
-    depths = np.array([float(row["depth_median_m"]) for row in posed_frame_table()])
-    frame_size = (images.shape[2], images.shape[1])
-    motion = camera_motion_px(poses, depths, posed_camera(), frame_size)
+    """Rank correlations of blur measures with the camera's image motion on the posed frames,
+    at 640x480 and 320x240, over all frames and over the half with the slower motion."""
+    images, motion = posed_frames_with_motion()
     rows.append({"stage": "camera motion", "data": "real TUM fr1_rpy frames", "n": len(motion),
                  "measure": "image motion per frame interval, px (median; 5th-95th pct)",
                  "value": f"{np.median(motion):.1f} ({np.percentile(motion, 5):.1f}-"
                           f"{np.percentile(motion, 95):.1f})", "target": ""})  # fmt: skip
+    slower = motion <= np.median(motion)
     for scale in (1, 2):
-        frames = [cv2.resize(image, None, fx=1 / scale, fy=1 / scale, interpolation=cv2.INTER_AREA)
-                  for image in images]  # fmt: skip
-        size = f"{frames[0].shape[1]}x{frames[0].shape[0]}"
-        measures = {
-            "estimate_motion_blur length": [estimate_motion_blur(f).length_px for f in frames],
-            "detect_blur score": [detect_blur(f)[1] for f in frames],
-            "negated variance of the Laplacian": [-variance_of_laplacian(f) for f in frames],
-        }
-        slower = motion <= np.median(motion)
-        for name, values in measures.items():
-            for subset, chosen in (("", np.ones_like(slower)), (", slower half", slower)):
-                rho = spearmanr(motion[chosen], np.asarray(values)[chosen]).statistic
-                rows.append({"stage": name, "data": f"real TUM fr1_rpy frames, {size}{subset}",
-                             "n": int(chosen.sum()), "measure": "Spearman with camera image motion",
-                             "value": round(float(rho), 3),
-                             "target": ">= 0.5" if "length" in name else ""})  # fmt: skip
-        flagged = np.mean([detect_blur(f)[0] for f in frames])
+        size = f"{images.shape[2] // scale}x{images.shape[1] // scale}"
+        measures = blur_measures(images, scale)
+        for subset, chosen in (("", np.ones_like(slower)), (", slower half", slower)):
+            picked = {name: values[chosen] for name, values in measures.items()}
+            for row in motion_agreement(picked, motion[chosen]):
+                rows.append({"stage": row["measure"],
+                             "data": f"real TUM fr1_rpy frames, {size}{subset}",
+                             "n": row["frames"], "measure": "Spearman with camera image motion",
+                             "value": row["spearman"],
+                             "target": ">= 0.5" if "length" in row["measure"] else ""})  # fmt: skip
+        flagged = np.mean(measures["detector score (px)"] > BLUR_THRESHOLD)
         rows.append({"stage": "detect_blur", "data": f"real TUM fr1_rpy frames, {size}",
-                     "n": len(frames), "measure": "share flagged blurred",
+                     "n": len(images), "measure": "share flagged blurred",
                      "value": round(float(flagged), 3), "target": ""})  # fmt: skip
 
 
@@ -146,12 +115,11 @@ def standin_rows(rows: list[dict], root: Path, budget: int) -> None:
 
 def deblur_rows(rows: list[dict]) -> None:
     """PSNR of blind Wiener deblurring against the sharp frame on the real pairs."""
-    for name, blurred, sharp in load_pairs():
-        before = psnr(sharp, blurred, data_range=255)
-        after = psnr(sharp, deblur_blind(blurred), data_range=255)
-        rows.append({"stage": "deblur_blind", "data": f"real pair {name}", "n": 1,
+    for pair in pair_restorations():
+        before, after = pair["blurred_psnr_db"], pair["deblurred_psnr_db"]
+        rows.append({"stage": "deblur_blind", "data": f"real pair {pair['pair']}", "n": 1,
                      "measure": "PSNR dB: blurred -> deblurred (change)",
-                     "value": f"{before:.2f} -> {after:.2f} ({after - before:+.2f})",
+                     "value": f"{before:.2f} -> {after:.2f} ({pair['change_db']:+.2f})",
                      "target": "> 0 change"})  # fmt: skip
 
 

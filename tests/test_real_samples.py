@@ -18,6 +18,7 @@ from blurloc.data.real import (
     DataError,
     data_root,
     entry_path,
+    files_present,
     load_pairs,
     load_photographs,
     manifest_path,
@@ -31,6 +32,12 @@ from blurloc.data.real import (
     verify,
 )
 from blurloc.data.sevenscenes import read_pose
+from blurloc.experiments.real_frames import (
+    blur_measures,
+    motion_agreement,
+    photograph_verdicts,
+    posed_frames_with_motion,
+)
 
 ENTRIES = read_manifest()
 FILES_PRESENT = all(entry_path(e).is_file() for e in ENTRIES)
@@ -171,3 +178,25 @@ def test_tum_files_hold_unit_quaternions():
         table = np.loadtxt(path, comments="#")
         assert table.shape[1] == 8 and len(table) > 1000, path
         assert np.allclose(np.linalg.norm(table[:, 4:], axis=1), 1.0, atol=1e-3), path
+
+
+def test_files_present_answers_per_part(tmp_path):
+    assert files_present("sharp")  # scikit-image's photographs ship with it
+    assert not files_present("posed", root=tmp_path)
+    assert files_present() == FILES_PRESENT
+
+
+@needs_files
+def test_real_stages_measure_the_real_files():
+    images, motion = posed_frames_with_motion(step=10)
+    assert images.shape[1:] == (480, 640, 3) and len(images) == len(motion) == 8
+    assert (motion > 0).all()
+    measures = blur_measures(images[:3], scale=4)
+    assert set(measures) == {"blind length (px)", "detector score (px)",
+                             "negated variance of the Laplacian"}  # fmt: skip
+    assert all(values.shape == (3,) and np.isfinite(values).all() for values in measures.values())
+    agreement = motion_agreement(measures, motion[:3])
+    assert [row["frames"] for row in agreement] == [3, 3, 3]
+    verdicts = photograph_verdicts()
+    assert {row["part"] for row in verdicts} == {"sharp", "blurred"}
+    assert all(row["reported"] in ("sharp", "blurred") for row in verdicts)

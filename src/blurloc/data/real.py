@@ -164,6 +164,26 @@ def part_entries(part: str, manifest: str | os.PathLike | None = None) -> list[M
     return [entry for entry in read_manifest(manifest) if entry.part == part]
 
 
+def files_present(*parts: str, root: str | os.PathLike | None = None) -> bool:
+    """Whether every file of the given parts (all parts when none is given) lies where
+    :func:`entry_path` looks: the development set's files are not part of a fresh clone.
+
+    Parameters
+    ----------
+    *parts : str
+        Parts of the manifest (``PARTS``).
+    root : str or os.PathLike, optional
+        Data root (:func:`data_root` when None).
+
+    Returns
+    -------
+    bool
+        True when each file exists (its checksum is not read: see :func:`verify`).
+    """
+    entries = [e for part in parts for e in part_entries(part)] if parts else read_manifest()
+    return all(entry_path(entry, root).is_file() for entry in entries)
+
+
 def _stem(entry: ManifestEntry) -> str:
     return Path(entry.file.removeprefix(SKIMAGE_PREFIX)).stem
 
