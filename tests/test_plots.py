@@ -73,6 +73,16 @@ def test_reference_lines_are_at_the_given_values() -> None:
     assert figure.axes[0].lines[-1].get_xdata()[0] == 0.25
 
 
+def test_motion_agreement_titles_carry_each_measures_rank_correlation() -> None:
+    motion = np.array([1.0, 4.0, 2.0, 8.0])
+    measures = {"length": motion**2, "sharpness": -motion}
+    figure = plots.plot_motion_agreement(measures, motion, "frames")
+    titles = [axis.get_title() for axis in figure.axes]
+    assert titles == ["length: ρ = 1.00", "sharpness: ρ = -1.00"]
+    assert [len(axis.collections[0].get_offsets()) for axis in figure.axes] == [4, 4]
+    plt.close(figure)
+
+
 def test_estimation_accuracy_plots_medians_per_sweep_value() -> None:
     rows = [
         {

@@ -5,6 +5,7 @@ from .blur import (
     plot_detection,
     plot_estimation_accuracy,
     plot_kernels,
+    plot_motion_agreement,
     plot_spectra,
     plot_standin_estimation,
 )
@@ -67,6 +68,7 @@ __all__ = [
     "plot_estimation_accuracy",
     "plot_exposure",
     "plot_kernels",
+    "plot_motion_agreement",
     "plot_nsr_curve",
     "plot_oracle_gains",
     "plot_paired_differences",

@@ -6,6 +6,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import Patch
+from scipy.stats import spearmanr
 
 from ..blur import BLURRED_FROM_PX, SHARP_BELOW_PX, detection_rates
 from .style import image_axis, styled
@@ -205,4 +206,40 @@ def plot_standin_estimation(rows: list[dict], angle_from_px: float = 4.0) -> plt
     for axis in axes:
         axis.legend(fontsize=7)
     figure.suptitle(f"Blind estimation on {len(frames)} stand-in frames against the recorded blur")
+    return figure
+
+
+@styled
+def plot_motion_agreement(
+    measures: dict[str, np.ndarray], motion_px: np.ndarray, title: str
+) -> plt.Figure:
+    r"""Blur measures of frames against the camera's image motion during each, one panel per
+    measure, with its Spearman rank correlation :math:`\rho` in the panel's title.
+
+    Parameters
+    ----------
+    measures : dict of str to numpy.ndarray
+        (N,) values per measure, larger for more blur
+        (:func:`blurloc.experiments.real_frames.blur_measures`).
+    motion_px : numpy.ndarray
+        (N,) image motion of the same frames, px per frame interval.
+    title : str
+        Figure title: which frames, at what size.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Eq. 1 of the paper: the blur's length is the image's motion during the exposure.
+    """
+    figure, axes = plt.subplots(1, len(measures), figsize=(3.6 * len(measures), 3.4),
+                                squeeze=False, layout="constrained")  # fmt: skip
+    for axis, (name, values) in zip(axes[0], measures.items(), strict=True):
+        rho = spearmanr(values, motion_px).statistic
+        axis.scatter(motion_px, values, s=10, alpha=0.7)
+        axis.set(xlabel="camera image motion (px per frame interval)", ylabel=name,
+                 title=f"{name}: ρ = {rho:.2f}")  # fmt: skip
+    figure.suptitle(title)
     return figure
