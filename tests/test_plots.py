@@ -50,10 +50,24 @@ def test_the_style_holds_inside_a_figure_only() -> None:
 def test_save_figure_writes_png_and_a_reproducible_pdf(tmp_path: Path) -> None:
     figure = plots.plot_kernels({"a": np.eye(5), "b": np.ones((5, 5)) / 25, "c": np.eye(5)})
     assert len(figure.axes) == 3 and [a.get_title() for a in figure.axes] == ["a", "b", "c"]
-    png, pdf = plots.save_figure(figure, tmp_path / "one", "kernels")
-    plots.save_figure(figure, tmp_path / "two", "kernels")
+    png, pdf, alt = plots.save_figure(figure, tmp_path / "one", "kernels")
+    plots.save_figure(figure, tmp_path / "two", "kernels", alt="three kernels")
     assert png.read_bytes()[:4] == b"\x89PNG"
     assert pdf.read_bytes() == (tmp_path / "two" / "kernels.pdf").read_bytes()
+    assert alt == "Panels: a; b; c."
+    assert plt.fignum_exists(figure.number)  # outside a notebook the figure stays open
+
+
+def test_describe_figure_reads_the_titles_and_labels() -> None:
+    figure, axes = plt.subplots(1, 2)
+    axes[0].set(title="length", xlabel="recorded (px)", ylabel="estimated (px)")
+    axes[1].set(title="angle")
+    figure.suptitle("Blind estimation\non frames")
+    assert plots.describe_figure(figure) == (
+        "Blind estimation on frames. Panels: length (x: recorded (px), y: estimated (px)); angle."
+    )
+    assert plots.describe_figure(plt.figure()) == "A figure."
+    plt.close("all")
 
 
 def test_reference_lines_are_at_the_given_values() -> None:

@@ -44,7 +44,7 @@ from .standin import (
     plot_scene_gallery,
     plot_trajectories,
 )
-from .style import figure_style, save_figure
+from .style import SavedFigure, describe_figure, figure_style, save_figure
 from .video import (
     plot_ablation_intervals,
     plot_attention,
@@ -53,7 +53,9 @@ from .video import (
 )
 
 __all__ = [
+    "SavedFigure",
     "blur_spectrum_explorer",
+    "describe_figure",
     "figure_style",
     "plot_ablation_intervals",
     "plot_architecture",

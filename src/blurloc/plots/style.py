@@ -6,9 +6,10 @@ from __future__ import annotations
 import contextlib
 import functools
 import os
+import sys
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import ParamSpec, TypeVar
+from typing import NamedTuple, ParamSpec, TypeVar
 
 import matplotlib
 import matplotlib.pyplot as plt
@@ -88,8 +89,77 @@ def styled(function: Callable[_P, _R]) -> Callable[_P, _R]:
     return draw
 
 
-def save_figure(figure: plt.Figure, folder: str | os.PathLike, name: str) -> list[Path]:
-    """Save a figure as PNG and PDF (PDF without a creation date, so reruns are identical).
+class SavedFigure(NamedTuple):
+    """The files of a saved figure and its alternative text.
+
+    Attributes
+    ----------
+    png : pathlib.Path
+        ``<name>.png`` (150 dpi).
+    pdf : pathlib.Path
+        ``<name>.pdf`` (no creation date).
+    alt : str
+        What the figure shows, in words, for a reader who cannot see it.
+    """
+
+    png: Path
+    pdf: Path
+    alt: str
+
+    def _ipython_display_(self) -> None:
+        """Show nothing: :func:`save_figure` has shown the figure already (once)."""
+
+
+def describe_figure(figure: plt.Figure) -> str:
+    """Alternative text of a figure from its own words: the title, then each panel's title and
+    axis labels.
+
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+        The figure.
+
+    Returns
+    -------
+    str
+        E.g. ``"Blur length. Panels: estimate (x: recorded extent, y: estimated length)."``;
+        ``"A figure."`` for a figure without any text.
+    """
+    panels = []
+    for axis in figure.axes:
+        labels = [
+            f"{name}: {text}"
+            for name, text in (("x", axis.get_xlabel()), ("y", axis.get_ylabel()))
+            if text
+        ]
+        heading = axis.get_title() or axis.get_title("left")
+        if heading or labels:
+            panels.append(heading + (f" ({', '.join(labels)})" if labels else ""))
+    title = figure.get_suptitle().strip().rstrip(".")
+    words = [f"{title}." if title else ""]
+    if panels:
+        words.append("Panels: " + "; ".join(dict.fromkeys(panels)) + ".")
+    text = " ".join(word for word in words if word)
+    return " ".join(text.split()) or "A figure."
+
+
+def _in_notebook() -> bool:
+    """Whether this code runs in a Jupyter kernel (IPython imported and serving a kernel)."""
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None
+    return getattr(shell, "kernel", None) is not None
+
+
+def save_figure(
+    figure: plt.Figure, folder: str | os.PathLike, name: str, alt: str | None = None
+) -> SavedFigure:
+    """Save a figure as PNG and PDF (PDF without a creation date, so reruns are identical); in a
+    notebook, show the saved PNG once with its alternative text and close the figure.
+
+    In a Jupyter kernel the PNG is displayed with ``{"image/png": {"alt": alt}}`` as its output
+    metadata (the convention nbconvert and notebook renderers read) and the figure is closed, so
+    that the inline backend does not show it a second time; elsewhere (scripts, tests) nothing
+    is shown and the figure stays open.
 
     Parameters
     ----------
@@ -99,19 +169,29 @@ def save_figure(figure: plt.Figure, folder: str | os.PathLike, name: str) -> lis
         Output folder (created).
     name : str
         File stem.
+    alt : str, optional
+        Alternative text; default :func:`describe_figure`.
 
     Returns
     -------
-    list of pathlib.Path
-        ``<folder>/<name>.png`` and ``.pdf`` (150 dpi, tight bounding box).
+    SavedFigure
+        ``<folder>/<name>.png`` and ``.pdf`` (150 dpi, tight bounding box) and the alternative
+        text. As a notebook cell's last value it shows nothing more.
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    paths = [folder / f"{name}.png", folder / f"{name}.pdf"]
+    saved = SavedFigure(folder / f"{name}.png", folder / f"{name}.pdf",
+                        alt if alt is not None else describe_figure(figure))  # fmt: skip
     with figure_style():
-        for path in paths:
+        for path in (saved.png, saved.pdf):
             figure.savefig(path, metadata={"CreationDate": None} if path.suffix == ".pdf" else None)
-    return paths
+    if _in_notebook():
+        from IPython.display import Image, display
+
+        display(Image(saved.png.read_bytes(), format="png"),
+                metadata={"image/png": {"alt": saved.alt}})  # fmt: skip
+        plt.close(figure)
+    return saved
 
 
 def image_axis(axis: plt.Axes, image: np.ndarray, title: str, cmap: str = "gray") -> None:
