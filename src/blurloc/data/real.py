@@ -17,9 +17,10 @@ from pathlib import Path
 
 import numpy as np
 import skimage
+import skimage.io
 
 from ..config import project_root
-from .sevenscenes import DataError, read_image
+from .sevenscenes import DataError
 
 ROOT_VARIABLE = "BLURLOC_REAL_DATA"
 
@@ -188,12 +189,24 @@ def _stem(entry: ManifestEntry) -> str:
     return Path(entry.file.removeprefix(SKIMAGE_PREFIX)).stem
 
 
+def _read_photograph(path: Path) -> np.ndarray:
+    """A photograph as RGB uint8 (H, W, 3): gray repeated over three channels, alpha dropped.
+    Read by scikit-image (Pillow), which decodes the same pixels as OpenCV but prints no libpng
+    warnings (scikit-image's ``page.png`` carries a colour profile that libpng objects to)."""
+    image = skimage.io.imread(path)
+    image = image[..., None] if image.ndim == 2 else image
+    image = image[..., :-1] if image.shape[2] in (2, 4) else image
+    if image.dtype != np.uint8:
+        raise DataError(f"{path}: expected an 8-bit photograph, got {image.dtype}")
+    return np.ascontiguousarray(np.repeat(image, 3, axis=2) if image.shape[2] == 1 else image)
+
+
 def load_photographs(part: str, root: str | os.PathLike | None = None) -> dict[str, np.ndarray]:
     """The photographs of part ``sharp`` or ``blurred``, by file stem, as RGB uint8 (H, W, 3)
     (gray photographs repeated over three channels)."""
     if part not in ("sharp", "blurred"):
         raise ValueError(f"part must be 'sharp' or 'blurred', got {part!r}")
-    return {_stem(e): read_image(entry_path(e, root)) for e in part_entries(part)}
+    return {_stem(e): _read_photograph(entry_path(e, root)) for e in part_entries(part)}
 
 
 def load_pairs(root: str | os.PathLike | None = None) -> list[tuple[str, np.ndarray, np.ndarray]]:
@@ -218,8 +231,8 @@ def load_pairs(root: str | os.PathLike | None = None) -> list[tuple[str, np.ndar
         partner = name.replace("_blur", "_sharp")
         if partner not in files:
             raise DataError(f"{entry_path(entry, root)}: no sharp partner {partner} listed")
-        blurred = read_image(entry_path(entry, root))
-        sharp = read_image(entry_path(files[partner], root))
+        blurred = _read_photograph(entry_path(entry, root))
+        sharp = _read_photograph(entry_path(files[partner], root))
         height, width = (min(a, b) for a, b in zip(blurred.shape[:2], sharp.shape[:2], strict=True))
         pairs.append((_stem(entry).removesuffix("_blur"), blurred[:height, :width],
                       sharp[:height, :width]))  # fmt: skip

@@ -44,7 +44,7 @@ from .standin import (
     plot_scene_gallery,
     plot_trajectories,
 )
-from .style import SavedFigure, describe_figure, figure_style, save_figure
+from .style import SavedFigure, describe_figure, figure_style, save_figure, show_figure
 from .video import (
     plot_ablation_intervals,
     plot_attention,
@@ -91,5 +91,6 @@ __all__ = [
     "plot_video_network",
     "plot_wiener_restoration",
     "save_figure",
+    "show_figure",
     "wiener_explorer",
 ]

@@ -73,7 +73,7 @@ def plot_exposure(
     axes[count].set_title("average in linear light")
     axes[count].axis("off")
     axis = axes[count + 1]
-    axis.imshow(np.full_like(blurred, 255))
+    axis.imshow(np.full(blurred.shape, 255, np.uint8))
     length = path_lengths(tracks)
     colours = plt.cm.viridis(length / max(length.max(), 1e-9))
     for point in range(tracks.shape[1]):

@@ -3,8 +3,10 @@ each figure function (no global matplotlib state changes), its colours, and savi
 
 from __future__ import annotations
 
+import base64
 import contextlib
 import functools
+import io
 import os
 import sys
 from collections.abc import Callable, Iterator
@@ -150,16 +152,39 @@ def _in_notebook() -> bool:
     return getattr(shell, "kernel", None) is not None
 
 
+def show_figure(figure: plt.Figure, alt: str | None = None) -> None:
+    """In a notebook, show a figure once with its alternative text and close it; elsewhere do
+    nothing.
+
+    The PNG goes out with ``{"image/png": {"alt": alt}}`` as its output metadata (the convention
+    nbconvert and notebook renderers read) and the alternative text as its plain-text form; the
+    figure is then closed, so that the inline backend does not show it a second time.
+
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+        The figure.
+    alt : str, optional
+        Alternative text; default :func:`describe_figure`.
+    """
+    if not _in_notebook():
+        return
+    from IPython.display import display
+
+    alt = alt if alt is not None else describe_figure(figure)
+    buffer = io.BytesIO()
+    with figure_style():
+        figure.savefig(buffer, format="png")
+    png = base64.b64encode(buffer.getvalue()).decode("ascii")
+    display({"image/png": png, "text/plain": alt}, raw=True, metadata={"image/png": {"alt": alt}})
+    plt.close(figure)
+
+
 def save_figure(
     figure: plt.Figure, folder: str | os.PathLike, name: str, alt: str | None = None
 ) -> SavedFigure:
     """Save a figure as PNG and PDF (PDF without a creation date, so reruns are identical); in a
-    notebook, show the saved PNG once with its alternative text and close the figure.
-
-    In a Jupyter kernel the PNG is displayed with ``{"image/png": {"alt": alt}}`` as its output
-    metadata (the convention nbconvert and notebook renderers read) and the figure is closed, so
-    that the inline backend does not show it a second time; elsewhere (scripts, tests) nothing
-    is shown and the figure stays open.
+    notebook, show it once with its alternative text and close it (:func:`show_figure`).
 
     Parameters
     ----------
@@ -185,12 +210,7 @@ def save_figure(
     with figure_style():
         for path in (saved.png, saved.pdf):
             figure.savefig(path, metadata={"CreationDate": None} if path.suffix == ".pdf" else None)
-    if _in_notebook():
-        from IPython.display import Image, display
-
-        display(Image(saved.png.read_bytes(), format="png"),
-                metadata={"image/png": {"alt": saved.alt}})  # fmt: skip
-        plt.close(figure)
+    show_figure(figure, saved.alt)
     return saved
 
 
