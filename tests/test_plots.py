@@ -250,6 +250,25 @@ def test_video_network_diagram_uses_math_text_and_draws_the_recurrent_inputs() -
     assert len(figure.axes) == 3 and figure.axes[2].images
 
 
+def test_fig4_zooms_every_row_into_the_window_where_the_frames_differ_most() -> None:
+    sharp = np.zeros((12, 16, 3))
+    blurred = sharp.copy()
+    blurred[7:10, 2:6] = 0.5  # the only change, inside rows 7-9, columns 2-5
+    window = plots.largest_difference_window(sharp, blurred, (4, 5))
+    top, left, height, width = window
+    assert (height, width) == (4, 5) and top <= 7 and top + 4 >= 10 and left <= 2 and left + 5 >= 6
+    with pytest.raises(ValueError, match="window"):
+        plots.largest_difference_window(sharp, blurred, (13, 5))
+    figure = plots.plot_video_network({"blurred": [blurred] * 2, "sharp": [sharp] * 2},
+                                      windows=[window, window])  # fmt: skip
+    panels = figure.axes[1:]
+    assert len(panels) == 6  # whole frames, then the two zoomed rows
+    assert panels[0].images[0].get_array().shape == (12, 16, 3) and panels[0].patches
+    assert [p.images[0].get_array().shape for p in panels[2:]] == [(4, 5, 3)] * 4
+    assert panels[2].get_ylabel() == "blurred\n(zoom)"
+    plt.close(figure)
+
+
 def test_pipeline_draws_the_reference_apart_from_the_chain() -> None:
     panels = [{"image": np.zeros((6, 8)), "title": name} for name in ("blurred", "Wiener")]
     path = np.cumsum(np.ones((4, 3)), axis=0)

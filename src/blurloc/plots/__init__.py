@@ -46,6 +46,7 @@ from .standin import (
 )
 from .style import SavedFigure, describe_figure, figure_style, save_figure, show_figure
 from .video import (
+    largest_difference_window,
     plot_ablation_intervals,
     plot_attention,
     plot_training_curves,
@@ -57,6 +58,7 @@ __all__ = [
     "blur_spectrum_explorer",
     "describe_figure",
     "figure_style",
+    "largest_difference_window",
     "plot_ablation_intervals",
     "plot_architecture",
     "plot_attention",

@@ -33,17 +33,69 @@ def _arrow(
         axis.text(x, y, text, fontsize=8, ha="center", va="bottom", color="#555555")
 
 
+def largest_difference_window(
+    reference: np.ndarray, image: np.ndarray, size: tuple[int, int]
+) -> tuple[int, int, int, int]:
+    r"""The window of an image where it differs most from a reference: the (height, width)
+    window with the largest mean absolute difference (over channels too).
+
+    .. math::
+
+        (r, c) = \arg\max_{r, c} \sum_{i < h, j < w} \lVert I_{r+i, c+j} - R_{r+i, c+j} \rVert_1
+
+    Parameters
+    ----------
+    reference, image : numpy.ndarray
+        (H, W) or (H, W, C) images of the same shape (e.g. the sharp and the blurred frame).
+    size : tuple of int
+        (height, width) of the window, px; at most the image's.
+
+    Returns
+    -------
+    tuple of int
+        (top, left, height, width), px.
+
+    Raises
+    ------
+    ValueError
+        If the shapes differ or the window does not fit.
+    """
+    reference, image = np.asarray(reference, float), np.asarray(image, float)
+    height, width = size
+    if reference.shape != image.shape or not (0 < height <= image.shape[0]
+                                              and 0 < width <= image.shape[1]):  # fmt: skip
+        raise ValueError(f"images {reference.shape} and {image.shape} with window {size}: the "
+                         "shapes must match and the window fit")  # fmt: skip
+    difference = np.abs(image - reference)
+    difference = difference.sum(axis=2) if difference.ndim == 3 else difference
+    sums = np.pad(difference.cumsum(0).cumsum(1), ((1, 0), (1, 0)))  # summed-area table
+    windows = (sums[height:, width:] - sums[:-height, width:] - sums[height:, :-width]
+               + sums[:-height, :-width])  # fmt: skip
+    top, left = np.unravel_index(int(np.argmax(windows)), windows.shape)
+    return int(top), int(left), height, width
+
+
 @styled
-def plot_video_network(strip: dict[str, list[np.ndarray]] | None = None) -> plt.Figure:
-    """Fig. 4: one time step t of the recurrent deblurring network of eq. 8-11 as built in
+def plot_video_network(
+    strip: dict[str, list[np.ndarray]] | None = None,
+    windows: list[tuple[int, int, int, int]] | None = None,
+) -> plt.Figure:
+    r"""Fig. 4: one time step t of the recurrent deblurring network of eq. 8-11 as built in
     :mod:`blurloc.models.video_deblur`, with the recurrent inputs of step t - 1 (the hidden
     state :math:`h_{t-1}`, the auxiliary state :math:`\tilde h_{t-1}` and the blended features
     :math:`\tilde f_{t-1}`, dashed boxes), optionally above a test sequence, one row per method.
+
+    With ``windows`` each frame of the strip is shown zoomed to its column's window, so that
+    the rows' differences are visible, under a row of the first method's whole frames with the
+    window outlined.
 
     Parameters
     ----------
     strip : dict, optional
         ``{row label: [frames]}``, RGB frames, the same count in every row.
+    windows : list of tuple of int, optional
+        One (top, left, height, width) window per column, px (e.g.
+        :func:`largest_difference_window` of the blurred and the sharp frame).
 
     Returns
     -------
@@ -53,6 +105,14 @@ def plot_video_network(strip: dict[str, list[np.ndarray]] | None = None) -> plt.
     ----------
     Fig. 4 and eq. 8-11 of the paper.
     """
+    if strip and windows is not None:
+        first_label, first_frames = next(iter(strip.items()))
+        crops = {label: [frame[top : top + height, left : left + width]
+                         for frame, (top, left, height, width) in zip(frames, windows,
+                                                                     strict=True)]
+                 for label, frames in strip.items()}  # fmt: skip
+        strip = {f"{first_label}\n(whole frame)": first_frames,
+                 **{f"{label}\n(zoom)": frames for label, frames in crops.items()}}  # fmt: skip
     rows = len(strip) if strip else 0
     columns = len(next(iter(strip.values()))) if strip else 1
     figure = plt.figure(figsize=(11, 3.9 + 1.9 * rows))
@@ -97,12 +157,16 @@ def plot_video_network(strip: dict[str, list[np.ndarray]] | None = None) -> plt.
     for row, (label, frames) in enumerate((strip or {}).items()):
         for column, frame in enumerate(frames):
             panel = figure.add_subplot(grid[1 + row, column])
-            panel.imshow(frame)
+            panel.imshow(frame, interpolation="nearest")
             panel.set_xticks([])
             panel.set_yticks([])
             panel.grid(False)
             if column == 0:
                 panel.set_ylabel(label, fontsize=8)
+            if windows is not None and row == 0:
+                top, left, height, width = windows[column]
+                panel.add_patch(plt.Rectangle((left - 0.5, top - 0.5), width, height,
+                                              fill=False, edgecolor="#ffd700", lw=1.2))  # fmt: skip
     return figure
 
 
