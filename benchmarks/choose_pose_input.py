@@ -2,7 +2,7 @@
 
     python benchmarks/choose_pose_input.py [--data samples/real/recording] [--scene fr1_rpy]
         [--validation 2 6] [--seeds 3] [--test-seeds 5] [--threads 1]
-        [--standin ROOT] [--standin-scene chess] [--validation-only]
+        [--standin ROOT] [--standin-scene chess] [--standin-seeds 3] [--validation-only]
         [--work /tmp/choose-pose-input] [--out-dir figures]
 
 The protocol, fixed before any of its results was seen:
@@ -26,8 +26,8 @@ The protocol, fixed before any of its results was seen:
 5. Test: the defaults and the pick, trained on every training sequence on ``--test-seeds``
    seeds, scored once on the test split beside the mean pose and image retrieval, with the
    paired difference of their ratios and its 95 % t-interval.
-6. Stand-in (``--standin``, one rendered scene): the defaults and the pick on the same seeds,
-   ratios and time per epoch side by side.
+6. Stand-in (``--standin``, one rendered scene): the defaults and the pick on
+   ``--standin-seeds`` seeds, ratios and time per epoch side by side.
 
 ``--validation-only`` stops after step 4. All runs use ``--threads`` intra-op threads (the
 same for every candidate) and are kept under ``--work`` and reused. Writes
@@ -209,6 +209,7 @@ def main() -> None:
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--standin", type=Path, help="stand-in root (skipped when not given)")
     parser.add_argument("--standin-scene", default="chess")
+    parser.add_argument("--standin-seeds", type=int, default=3)
     parser.add_argument("--validation-only", action="store_true")
     parser.add_argument("--work", type=Path, default=Path("/tmp/choose-pose-input"))
     add_out_dir_argument(parser)
@@ -231,7 +232,7 @@ def main() -> None:
                               retrieved["orientation_deg"]["median"]])  # fmt: skip
         tables["test"] = table(found, chosen, retrieval=retrieval)
         if args.standin is not None:
-            found = train_candidates(args.standin, args.standin_scene, chosen, args.test_seeds,
+            found = train_candidates(args.standin, args.standin_scene, chosen, args.standin_seeds,
                                      args.threads, args.work / "standin")  # fmt: skip
             tables["stand-in"] = table(found, chosen)
     notes = (
@@ -239,7 +240,7 @@ def main() -> None:
         f"{args.validation} held out, the candidates trained on the other training sequences, "
         f"{args.seeds} seeds each; test: the defaults and the pick ({picked}) trained on every "
         f"training sequence, {args.test_seeds} seeds, scored on the test split once. Stand-in: "
-        + (f"{args.standin} (scene {args.standin_scene}), {args.test_seeds} seeds"
+        + (f"{args.standin} (scene {args.standin_scene}), {args.standin_seeds} seeds"
            if args.standin and not args.validation_only else "not run")
         + f". Ratios are median errors over the same split's mean pose; regressor rows: mean "
         "over seeds and the 95 % t-interval of that mean; targets: position <= "
