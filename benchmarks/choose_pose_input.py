@@ -32,7 +32,8 @@ The protocol, fixed before any of its results was seen:
 
 ``--validation-only`` stops after step 4. All runs use ``--threads`` intra-op threads (the
 same for every candidate) and are kept under ``--work`` and reused. Writes
-``OUT/choose_pose_input.md`` (tables ``validation``, ``test``, ``stand-in``) and one CSV each.
+``OUT/choose_pose_input.md`` (tables ``validation``, ``test``, ``stand-in``) and one CSV each;
+with other ``--validation`` sequences than 2 and 6, ``OUT/choose_pose_input-val<a>-<b>.md``.
 """
 
 from __future__ import annotations
@@ -267,7 +268,9 @@ def main() -> None:
         f"lowest mean validation position ratio. Training time of all runs: {training_s / 60:.0f} "
         "min." + outcome
     )  # fmt: skip
-    saved = save_benchmark_tables("choose_pose_input", tables, args.out_dir,
+    stem = "choose_pose_input" + ("" if args.validation == [2, 6] else
+                                  "-val" + "-".join(map(str, args.validation)))  # fmt: skip
+    saved = save_benchmark_tables(stem, tables, args.out_dir,
                                   "Pose regressor's input settings chosen on validation, "
                                   "reported on test", command=["python", *sys.argv],
                                   notes=notes)  # fmt: skip
