@@ -252,8 +252,11 @@ def main() -> None:
     notes = (
         f"Real: {data} (scene {args.scene}); validation: its training sequences "
         f"{args.validation} held out, the candidates trained on the other training sequences, "
-        f"{args.seeds} seeds each; test: the defaults and the pick ({picked}) trained on every "
-        f"training sequence, {args.test_seeds} seeds, scored on the test split once. Stand-in: "
+        f"{args.seeds} seeds each; pick: {picked}; test: "
+        + ("not run (--validation-only)" if args.validation_only else
+           f"the defaults and the pick trained on every training sequence, {args.test_seeds} "
+           "seeds, scored on the test split once")
+        + ". Stand-in: "
         + (f"{args.standin} (scene {args.standin_scene}), {args.standin_seeds} seeds"
            if args.standin and not args.validation_only else "not run")
         + f". Ratios are median errors over the same split's mean pose; regressor rows: mean "
