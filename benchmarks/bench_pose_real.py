@@ -3,7 +3,7 @@
     python benchmarks/bench_pose_real.py [--data samples/real/recording] [--scene fr1_rpy]
         [--standin ROOT] [--standin-scene chess] [--seeds 3] [--variant fixed_crop=true ...]
         [--standin-variant resize=120,crop=104 ...]
-        [--work /tmp/bench-pose-real] [--out figures]
+        [--work /tmp/bench-pose-real] [--out-dir figures]
 
 On a real recording in the 7-Scenes layout (default: the committed TUM RGB-D ``freiburg1_rpy``
 recording, ``samples/real/recording``, its test sequences lying between training ones) and on
@@ -29,15 +29,13 @@ orientation <= 0.7x). Paired rows give the per-seed difference of the ratios (va
 defaults, regressor minus retrieval) with its 95 % t-interval and the verdict it supports. The
 position spread is also given as the angle the mean pose's median position error subtends at
 the scene's median depth: a translation that small moves the image about as a turn of that
-angle does. Runs are kept under ``--work`` and reused. Writes ``OUT/bench_pose_real.md`` and
-``.csv`` with the command and the date.
+angle does. Runs are kept under ``--work`` and reused. Writes ``<out-dir>/bench_pose_real.md``
+and ``.csv`` with the command and the date.
 """
 
 from __future__ import annotations
 
 import argparse
-import datetime
-import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -52,7 +50,7 @@ from blurloc.inference import load_pose_model, predict_poses
 from blurloc.intervals import paired_interval, verdict
 from blurloc.metrics import pose_summary, position_errors
 from blurloc.models.pose import PoseConfig
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.train.config import PoseTrainConfig
 from blurloc.train.datasets import FrameCache
 from blurloc.train.pose import train_pose
@@ -232,8 +230,10 @@ def main() -> None:
     parser.add_argument("--variant", action="append", default=[],
                         help="PoseTrainConfig settings, name=value[,name=value]")  # fmt: skip
     parser.add_argument("--work", type=Path, default=Path("/tmp/bench-pose-real"))
-    parser.add_argument("--out", type=Path, default=Path("figures"))
+    add_out_dir_argument(parser)
     args = parser.parse_args()
+    if args.seeds < 2:
+        parser.error(f"--seeds {args.seeds}: at least 2 (each regressor's interval is over seeds)")
     variants = {text: parse_variant(text) for text in args.variant}
     data = args.data or recording_root()
     rows = dataset_rows(f"real {args.scene}", data, args.scene, args.seeds, variants,
@@ -242,22 +242,27 @@ def main() -> None:
         rows += dataset_rows(f"stand-in {args.standin_scene}", args.standin, args.standin_scene,
                              args.seeds, {t: parse_variant(t) for t in args.standin_variant},
                              args.work)  # fmt: skip
-    command = "python " + " ".join(sys.argv)
-    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    caption = (f"Pose regression on real frames beside image retrieval and the mean pose. "
-               f"Command: `{command}`; {date}. Median test errors; ratios to the mean pose's; "
-               "regressor rows: mean over seeds, 95 % t-interval of the mean; paired rows: "
-               "per-seed differences of ratios (negative: the first is better). Targets on real "
-               f"frames: position <= {TARGETS[0]}x, orientation <= {TARGETS[1]}x. Real: {data} "
-               f"(scene {args.scene}); stand-in: "
-               + (f"{args.standin} (scene {args.standin_scene})" if args.standin else "not run")
-               + f". {args.seeds} seeds per regressor; each run trains the package's defaults "
-               "(8 epochs of 512 windows of 4 frames: 256 steps) or a variant of them, "
-               "train_s seconds on 2 shared CPU cores; val_position_m is the median position "
-               "error on the validation frames (the end of every training sequence) at the "
-               "kept epoch.")  # fmt: skip
-    saved = save_table(rows, args.out, "bench_pose_real", COLUMNS, caption)
-    print(f"wrote {saved.markdown} and {saved.csv}")
+    notes = (
+        f"Median test errors; ratios to the mean pose's; regressor rows: mean over seeds, "
+        "95 % t-interval of the mean; paired rows: per-seed differences of ratios "
+        "(negative: the first is better). Targets on real frames: position <= "
+        f"{TARGETS[0]}x, orientation <= {TARGETS[1]}x. Real: {data} (scene {args.scene}); "
+        "stand-in: "
+        + (f"{args.standin} (scene {args.standin_scene})" if args.standin else "not run")
+        + f". {args.seeds} seeds per regressor; each run trains the package's defaults "
+        "(8 epochs of 512 windows of 4 frames: 256 steps) or a variant of them, train_s "
+        "seconds on 2 shared CPU cores; val_position_m is the median position error on the "
+        "validation frames (the end of every training sequence) at the kept epoch."
+    )
+    table = [{column: row.get(column, "") for column in COLUMNS} for row in rows]
+    saved = save_benchmark_tables(
+        "bench_pose_real",
+        {"results": table},
+        args.out_dir,
+        "Pose regression on real frames beside image retrieval and the mean pose",
+        notes=notes,
+    )
+    print(f"wrote {saved.markdown}")
 
 
 if __name__ == "__main__":
