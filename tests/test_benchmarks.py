@@ -21,7 +21,6 @@ NOT_YET_WIRED = {
     "bench_real.py",
     "bench_pose_real.py",
     "deblur_bounds.py",
-    "blur_model_sources.py",
 }
 
 
