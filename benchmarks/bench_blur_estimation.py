@@ -16,13 +16,17 @@ photographs (``photo_training_set``), writes it to ``--out`` (never over the shi
 ``blurloc.blur.LENGTH_MODEL_PATH``, nor into an input root: shipping a new model is a copy made by
 hand) and prints the detector threshold chosen on the stand-in's training examples at the analysis
 scale, at both sizes (frames with >= 3 px against sharp renders and frames under 1.5 px, the two
-sharp groups counted equally). The shipped model: ``--fit data/standin R640_S0 R640_S1 --budget 6000
---out blur_length.npz``, where ``data/standin`` is the full default render (notebook 00; about 6,000
-of its training frames are read), R640_S0 holds 640x480 renders of two scenes (``blurloc synth --out
-R640_S0 --width 640 --height 480 --frames 12 --scenes chess office``) and R640_S1 of all seven with
-another seed (``blurloc synth --out R640_S1 --width 640 --height 480 --frames 16 --seed 1``), so
-that the model sees both scales. Its 640x480 check used two more renders made the same way, neither
-fitted on: seed 3 to choose ``blurloc.blur.SINC_AGREEMENT``, seed 2 (``--root R640_S2``) to measure.
+sharp groups counted equally). The shipped model, on the stand-in's default look:
+``--fit data/s60 data/s60-seed1 data/s60-seed2 data/s60-seed3 data/s60-seed4 data/r640-seed3 --out
+blur_length.npz`` (every training frame of each root and every fourth one's sharp render: 9,892
+examples, with the 1,500 photographs; about 8 min on 2 cores beside other work), where
+``data/s60`` is ``blurloc synth --out data/s60 --frames 60`` (seed 0: its test split is the one
+scored, never fitted on), ``data/s60-seed1`` to ``data/s60-seed4`` the same with ``--seed 1`` to
+``--seed 4``, and ``data/r640-seed3`` holds 640x480 renders of all seven scenes (``blurloc synth
+--out data/r640-seed3 --width 640 --height 480 --frames 4 --seed 3``), so that the model sees both
+scales. Its 640x480 check: ``--root data/r640-seed4``, made with ``--frames 6 --seed 4``, not
+fitted on. ``benchmarks/length_model_cause.py`` shows why
+several renders are fitted on, and ``benchmarks/blur_model_sources.py`` what each source adds.
 The measures go to ``<out-dir>/bench_blur_estimation.md``/``.csv`` (and
 ``bench_blur_estimation-motion.csv``); a fit's counts and threshold to
 ``<out-dir>/bench_blur_estimation_fit.md``/``.csv``.

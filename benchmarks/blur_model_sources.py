@@ -1,14 +1,15 @@
 """What each training source contributes to the blur length model, scored on real frames and
 on the stand-in in one run.
 
-    python benchmarks/blur_model_sources.py --fit-root data/standin [ROOT ...]
-        --test-root data/standin [--budget 3000] [--test-budget 600] [--out figures]
+    python benchmarks/blur_model_sources.py --fit-root data/s60 [ROOT ...]
+        --test-root data/s60 [--budget 3000] [--test-budget 600] [--out-dir figures]
 
 The length model (:func:`blurloc.blur.fit_length_model`) is fitted three times, from the same
 examples: on the stand-in's training splits alone (``--fit-root``, about ``--budget`` frames of
 each root, :func:`~blurloc.experiments.blur_estimation.length_training_set`), on blurred real
 photographs alone (:func:`~blurloc.experiments.blur_estimation.photo_training_set`), and on
-both (how the shipped model is fitted). Each model's detector threshold is calibrated on its own
+both (how the shipped model is fitted: ``benchmarks/bench_blur_estimation.py``'s docstring names
+its renders). Each model's detector threshold is calibrated on its own
 training examples (:func:`blurloc.blur.calibrate_blur_threshold`, blurred from 3 px against sharp
 examples and those under 1.5 px). Every model is then scored, without refitting, on:
 
@@ -22,15 +23,12 @@ examples and those under 1.5 px). Every model is then scored, without refitting,
 
 The coarse length is what the model gives; the shipped estimator
 (:func:`blurloc.blur.estimate_motion_blur`) refines long linear blur by the spectrum's sinc
-zeros on top of it. Writes ``<out>/blur_model_sources.md`` and ``.csv``.
+zeros on top of it. Writes ``<out-dir>/blur_model_sources.md`` and ``.csv``.
 """
 
 from __future__ import annotations
 
 import argparse
-import datetime
-import sys
-from pathlib import Path
 
 import numpy as np
 from scipy.stats import spearmanr
@@ -56,7 +54,7 @@ from blurloc.experiments.blur_estimation import (
     length_training_set,
     photo_training_set,
 )
-from blurloc.tables import save_table
+from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 #: File stems of scikit-image photographs whose ``skimage.data`` function has another name.
 SKIMAGE_NAMES = {"ihc": "immunohistochemistry", "motorcycle_left": "stereo_motorcycle"}
@@ -125,7 +123,7 @@ def main() -> None:
     parser.add_argument("--test-root", required=True, help="stand-in root scored (test split)")
     parser.add_argument("--budget", type=int, default=3000, help="training frames per fit root")
     parser.add_argument("--test-budget", type=int, default=600, help="test frames scored")
-    parser.add_argument("--out", type=Path, default=Path("figures"))
+    add_out_dir_argument(parser)
     args = parser.parse_args()
 
     standin = [length_training_set(root, "train", budget=args.budget) for root in args.fit_root]
@@ -149,13 +147,12 @@ def main() -> None:
         rows.append({"fitted on": name, "examples": len(extents),
                      "threshold (px)": round(threshold, 2),
                      **score(model, threshold, evaluation)})  # fmt: skip
-    date = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
-    command = "python benchmarks/" + " ".join([Path(sys.argv[0]).name, *sys.argv[1:]])
-    table = save_table(
-        rows, args.out, "blur_model_sources",
-        caption=f"The blur length model fitted on each source, scored on real frames and the "
-        f"stand-in. Command: `{command}` ({date}).",
-    )  # fmt: skip
+    table = save_benchmark_tables(
+        "blur_model_sources",
+        {"sources": rows},
+        args.out_dir,
+        "The blur length model fitted on each source, scored on real frames and the stand-in",
+    )
     print(table.markdown.read_text())
 
 

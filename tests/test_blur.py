@@ -21,6 +21,7 @@ from blurloc.blur import (
     to_gray,
     trajectory_kernel,
 )
+from blurloc.blur.features import edge_widths
 from blurloc.experiments.estimation import angle_error_deg
 
 
@@ -171,6 +172,19 @@ def test_shipped_length_model_reads_the_features() -> None:
     model = default_length_model()
     assert model.mean.size == blur_features(np.zeros((120, 160))).values.size
     assert all(layers[-1][0].shape[0] == 1 for layers in model.members)
+
+
+def test_edge_widths_grow_with_blur_across_the_edges_only() -> None:
+    steps = np.zeros((96, 128), np.float32)
+    steps[:, 40:] = 0.8  # vertical edges at columns 40 and (wrapped) 0
+    steps[:, 88:] = 0.2
+    across = blur_image(steps, motion_kernel(8, 0)).astype(np.float32)  # horizontal blur
+    along = blur_image(steps, motion_kernel(8, 90)).astype(np.float32)  # vertical blur
+    median_17 = 11  # log median width, 17 px windows
+    sharp, wide, same = (edge_widths(image, 0.0)[median_17] for image in (steps, across, along))
+    assert np.exp(sharp) < 2.5 and 6.0 < np.exp(wide) < 11.0  # a step spans 2 px of Sobel
+    assert abs(same - sharp) < 0.1
+    assert not edge_widths(np.full((32, 32), 0.5, np.float32), 0.0)[:15].any()  # no edges: 1 px
 
 
 @pytest.mark.parametrize(

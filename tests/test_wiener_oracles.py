@@ -125,11 +125,11 @@ def test_estimation_rows_against_recorded_blur(quick_root: Path) -> None:
 
 def test_length_training_examples(quick_root: Path) -> None:
     features, extents = length_training_set(quick_root, "train", sharp_every=4)
-    assert features.shape == (12 + 3, 62)  # 8 + 4 frames, sharp renders of frames 0, 4 and 0
+    assert features.shape == (12 + 3, 78)  # 8 + 4 frames, sharp renders of frames 0, 4 and 0
     assert (extents == 0).sum() >= 3 and (extents > 0).sum() >= 10
     # rows: frame 0, its sharp render, frames 1-4, frame 4's sharp render, ...
     assert extents[1] == 0 and extents[6] == 0 and extents[0] > 0
-    assert features[6][-2] > features[1][-2] + 0.2  # log noise σ: frame 4's sharp render is noisy
+    assert features[6][60] > features[1][60] + 0.2  # log noise σ: frame 4's sharp render is noisy
     photo_features, photo_extents = photo_training_set(count=12, seed=1)
-    assert photo_features.shape == (12, 62) and (photo_extents >= 0).all()
+    assert photo_features.shape == (12, 78) and (photo_extents >= 0).all()
     assert 0 < (photo_extents == 0).sum() < 12 and photo_extents.max() <= 25.0

@@ -112,7 +112,7 @@ def detection_rates(
 #: :func:`calibrate_blur_threshold` on the stand-in's training examples at 160x120 and 640x480
 #: (frames with >= BLURRED_FROM_PX of blur against sharp renders and frames under
 #: SHARP_BELOW_PX, each of the two sharp groups counted equally; notebook 01 recomputes it).
-BLUR_THRESHOLD = 2.49
+BLUR_THRESHOLD = 2.47
 
 
 def blur_score(image: np.ndarray) -> float:

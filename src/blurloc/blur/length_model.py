@@ -13,8 +13,9 @@ import numpy as np
 
 from .features import BlurFeatures
 
-#: Length model shipped with the package: :func:`fit_length_model` on the stand-in's training
-#: split (notebook 01 refits it and compares).
+#: Length model shipped with the package: :func:`fit_length_model` on the training splits of
+#: several stand-in renders and on blurred photographs (the recipe:
+#: ``benchmarks/bench_blur_estimation.py``; notebook 01 refits it and compares).
 LENGTH_MODEL_PATH = Path(__file__).parents[1] / "weights" / "blur_length.npz"
 
 
@@ -123,7 +124,7 @@ def default_length_model() -> LengthModel:
     Returns
     -------
     LengthModel
-        The model that :func:`fit_length_model` fitted on the stand-in's training split.
+        The model that :func:`fit_length_model` fitted by the recipe of LENGTH_MODEL_PATH.
     """
     return LengthModel.load(LENGTH_MODEL_PATH)
 
