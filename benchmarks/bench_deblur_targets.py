@@ -21,12 +21,13 @@ Arms, each scored on the same frames:
 - ``wiener input``: the same network with ``wiener_input`` (eq. 8-11 fed the frame and its
   Wiener copy), trained on the same mix with the same seeds and steps.
 
-Training mix (every video drawn equally often): the training sequences of both stand-ins (their
-ends, and the ends of the first training sequence of each scene, for validation), plus
-``--photo-videos`` GoPro-style videos from photographs with sensor noise 0.01 and as many
-without noise (:func:`~blurloc.experiments.photo_video.photo_training_videos`: photographs
-disjoint from the scored photo-video set), with 2 + 2 more for validation. Trainings in
-``--out`` are reused when finished (resumed when not).
+Each training is :class:`~blurloc.train.config.VideoTrainConfig` with ``--steps`` steps, validated
+twice (halfway and at the end). Training mix (every video drawn equally often): the training
+sequences of both stand-ins (the ends of the first training sequence of each scene for validation),
+plus ``--photo-videos`` GoPro-style videos from photographs with sensor noise 0.01 and as many
+without noise (:func:`~blurloc.experiments.photo_video.photo_training_videos`: photographs disjoint
+from the scored photo-video set), with 2 + 2 more for validation. Trainings in ``--out`` are reused
+when finished (resumed when not).
 
 Scored (PSNR, eq. 6, against the sharp frames): the first ``--test-frames`` frames of every test
 sequence of each stand-in; the photo-video set without noise (5 photographs never trained on x
@@ -185,11 +186,12 @@ def main() -> None:
     print(f"training mix: {len(splits['train'])} videos, "
           f"{sum(len(b) for b, _ in splits['train'])} frames")  # fmt: skip
     checkpoints: dict[str, list[Path]] = {}
-    for arm, model in TRAINED.items():
-        for seed in args.seeds:
+    for seed in args.seeds:  # seed by seed: a paired pair of networks at a time
+        for arm, model in TRAINED.items():
             folder = Path(args.out) / f"{arm.replace(' ', '_')}-seed{seed}"
             config = VideoTrainConfig(steps=args.steps, seed=seed, threads=args.threads,
-                                      device="cpu", model=model)  # fmt: skip
+                                      validate_every=max(1, args.steps // 2), device="cpu",
+                                      model=model)  # fmt: skip
             started = time.perf_counter()
             history = train_video_deblur(splits, folder, config, progress=False)
             print(f"{arm} seed {seed}: best validation {max(history['val_psnr']):.2f} dB, "
