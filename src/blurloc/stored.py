@@ -23,8 +23,9 @@ from typing import Any
 
 #: The switches of the video network added after its first checkpoints, with the value the
 #: checkpoints stored before them were trained with (the networks stored before
-#: ``bounded_state`` existed have unbounded states).
-VIDEO_SWITCHES_ADDED = {"align": False, "bounded_state": False}
+#: ``bounded_state`` existed have unbounded states; those stored before ``wiener_input`` read
+#: the blurred frames alone).
+VIDEO_SWITCHES_ADDED = {"align": False, "bounded_state": False, "wiener_input": False}
 
 
 def complete(stored: Mapping[str, Any], added: Mapping[str, Any]) -> dict[str, Any]:

@@ -158,6 +158,7 @@ def photo_training_videos(
     frames: int = PHOTO_TRAINING_FRAMES,
     seed: int = 0,
     photos: tuple[str, ...] = PHOTO_TRAINING_PHOTOS,
+    noise_sigma: float = 0.01,
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """Blurred videos with their sharp frames, made the GoPro way (:func:`photo_video`) from
     photographs, for training a video deblurrer on natural image content.
@@ -182,6 +183,9 @@ def photo_training_videos(
     photos : tuple of str
         scikit-image photograph names (default :data:`PHOTO_TRAINING_PHOTOS`, disjoint from the
         photo-video set that :func:`photo_video_gains` scores).
+    noise_sigma : float
+        Sensor noise of the blurred frames (:func:`photo_video`; 0: none, as the noise-free
+        videos the network must deblur without denoising).
 
     Returns
     -------
@@ -210,7 +214,7 @@ def photo_training_videos(
             photo = photo[:, ::-1]
         videos.append(photo_video(np.ascontiguousarray(photo), frames,
                                   step_px=rng.uniform(0.25, 1.75),
-                                  angle_deg=rng.uniform(0.0, 360.0),
+                                  angle_deg=rng.uniform(0.0, 360.0), noise_sigma=noise_sigma,
                                   seed=int(rng.integers(2**31))))  # fmt: skip
     return videos
 

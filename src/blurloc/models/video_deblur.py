@@ -19,7 +19,10 @@ content between the previous and the current blurred frame, measured by phase co
 parameters). With ``bounded_state`` (the default, and the shipped network's) the hidden and
 auxiliary states pass through tanh, so that they stay within (-1, 1) however long the video;
 without it nothing bounds them, and a network whose recurrence has become expansive in training
-blows up on long videos.
+blows up on long videos. With ``wiener_input`` every frame is first deconvolved by the Wiener
+filter (eq. 4) with its own blind line estimate (Section III.A.1) and a noise-aware NSR, and the
+recurrent network refines the frame with that copy beside it as three more input channels (a
+Wiener step before the learnt refinement).
 """
 
 from __future__ import annotations
@@ -28,10 +31,12 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, replace
 from typing import Any
 
+import numpy as np
 import torch
 import torch.nn.functional as F
 from torch import nn
 
+from ..deconv import deblur_blind
 from ..stored import VIDEO_SWITCHES_ADDED, complete
 
 
@@ -40,7 +45,8 @@ class VideoDeblurConfig:
     """Widths and switches of :class:`VideoDeblurNet`; ``feature_stride`` (4 or 2) is how much
     coarser than the frame the recurrent features are; ``align`` moves the recurrent states by
     the frame-to-frame translation (:func:`frame_translation`); ``bounded_state`` passes the
-    hidden and auxiliary states (eq. 8-9) through tanh."""
+    hidden and auxiliary states (eq. 8-9) through tanh; ``wiener_input`` gives the network each
+    frame's blind Wiener deconvolution (:func:`wiener_guides`) beside the frame."""
 
     channels: int = 32
     hidden: int = 24
@@ -51,6 +57,7 @@ class VideoDeblurConfig:
     feature_stride: int = 4
     align: bool = False
     bounded_state: bool = True
+    wiener_input: bool = False
 
     def __post_init__(self) -> None:
         if self.feature_stride not in (2, 4):
@@ -217,6 +224,46 @@ def shift_features(features: torch.Tensor, shift_px: torch.Tensor) -> torch.Tens
     return F.grid_sample(features, grid, padding_mode="border", align_corners=False)
 
 
+def wiener_guides(frames: torch.Tensor) -> torch.Tensor:
+    r"""Each frame deconvolved by the Wiener filter (eq. 4) with its own blind blur estimate.
+
+    .. math::
+
+        W_t = F^{-1}\left\{ \frac{\overline{F\{\hat{c}_t\}}}{|F\{\hat{c}_t\}|^2 +
+        \mathrm{NSR}_t} \, F\{B_t\} \right\}
+
+    with :math:`\hat{c}_t` the straight line of the frame's blind estimate (length and angle,
+    :func:`~blurloc.blur.estimate_motion_blur`; 1 px, the identity, for a frame without blur)
+    and :math:`\mathrm{NSR}_t` from the frame's noise level (:func:`~blurloc.deconv.estimate_nsr`),
+    by :func:`~blurloc.deconv.deblur_blind` without its gate: every frame is deconvolved, and
+    the network that reads the copy decides how far to trust it. Computed on the 8-bit frames
+    (rounded from the input), without gradients.
+
+    Parameters
+    ----------
+    frames : torch.Tensor
+        (N, T, 3, H, W) blurred frames in [-1, 1]; H and W at least 16.
+
+    Returns
+    -------
+    torch.Tensor
+        (N, T, 3, H, W) deconvolved frames in [-1, 1], on the device of ``frames``.
+
+    References
+    ----------
+    Dong, Roth and Schiele, "Deep Wiener deconvolution: Wiener meets deep learning for image
+    deblurring", NeurIPS 2020 (a Wiener step before a learnt refinement). The paper's Section
+    III.A.1 and eq. 4.
+    """
+    with torch.no_grad():
+        images = frames.detach().float().movedim(-3, -1).add(1.0).mul(127.5).round().clamp(0, 255)
+        images = images.to(torch.uint8).cpu().numpy()
+        restored = np.stack([deblur_blind(image, threshold=0.0, gated=False)
+                             for image in images.reshape(-1, *images.shape[2:])])  # fmt: skip
+        guides = torch.from_numpy(restored.reshape(images.shape)).float().div(127.5).sub(1.0)
+    return guides.movedim(-1, -3).to(frames.device)
+
+
 class VideoDeblurNet(nn.Module):
     """The recurrent deblurring network; frames in [-1, 1], (N, T, 3, H, W) → same shape."""
 
@@ -226,7 +273,8 @@ class VideoDeblurNet(nn.Module):
         self.stride = config.feature_stride
         c, h = config.channels, config.hidden
         s = c // 2
-        self.encode_full = nn.Sequential(nn.Conv2d(3, s, 3, padding=1), nn.ReLU())
+        inputs = 6 if config.wiener_input else 3
+        self.encode_full = nn.Sequential(nn.Conv2d(inputs, s, 3, padding=1), nn.ReLU())
         self.encode = nn.Sequential(
             nn.Conv2d(s, s, 3, stride=2, padding=1), nn.ReLU(),
             nn.Conv2d(s, c, 3, stride=self.stride // 2, padding=1), nn.ReLU(),
@@ -265,6 +313,7 @@ class VideoDeblurNet(nn.Module):
         frames: torch.Tensor,
         state: tuple | None = None,
         keep_attention: bool = False,
+        guides: torch.Tensor | None = None,
     ) -> tuple[torch.Tensor, tuple]:
         r"""Deblur a clip frame by frame in time order (eq. 8-11).
 
@@ -278,9 +327,10 @@ class VideoDeblurNet(nn.Module):
 
             L_t = B_t + \mathrm{Reconstructor}(f_t, h_t, \tilde{f}_t, \tilde{h}_t)
 
-        (with ``bounded_state``, :math:`h_t` and :math:`\tilde{h}_t` pass through tanh; switched-off
-        parts drop out of the sums). Any H, W: frames are padded by replication to a multiple of the
-        feature stride and cropped back.
+        (with ``wiener_input`` the encoder reads :math:`B_t` and its Wiener copy :math:`W_t`
+        (:func:`wiener_guides`) stacked as six channels; with ``bounded_state``, :math:`h_t` and
+        :math:`\tilde{h}_t` pass through tanh; switched-off parts drop out of the sums). Any H, W:
+        frames are padded by replication to a multiple of the feature stride and cropped back.
 
         Parameters
         ----------
@@ -291,6 +341,10 @@ class VideoDeblurNet(nn.Module):
             frame); None starts a video.
         keep_attention : bool
             Keep the blending weights :math:`w_t` of eq. 10 in ``last_attention``.
+        guides : torch.Tensor, optional
+            (N, T, 3, H, W) Wiener copies of ``frames`` for a network with ``wiener_input``
+            (e.g. computed once on whole frames before cropping them); default
+            :func:`wiener_guides` of ``frames``. Ignored without ``wiener_input``.
 
         Returns
         -------
@@ -302,7 +356,7 @@ class VideoDeblurNet(nn.Module):
         Raises
         ------
         ValueError
-            If ``frames`` is not (N, T, 3, H, W).
+            If ``frames`` is not (N, T, 3, H, W), or ``guides`` is not of its shape.
 
         References
         ----------
@@ -317,20 +371,28 @@ class VideoDeblurNet(nn.Module):
             raise ValueError(f"frames must be (N, T, 3, H, W), got {tuple(frames.shape)}")
         n, t, _, height, width = frames.shape
         pad_h, pad_w = (-height) % self.stride, (-width) % self.stride
-        padded = F.pad(frames.flatten(0, 1), (0, pad_w, 0, pad_h), mode="replicate")
-        padded = padded.unflatten(0, (n, t))
         config = self.config
+        stacked = frames
+        if config.wiener_input:
+            guides = wiener_guides(frames) if guides is None else guides
+            if guides.shape != frames.shape:
+                raise ValueError(f"guides must have the frames' shape {tuple(frames.shape)}, "
+                                 f"got {tuple(guides.shape)}")  # fmt: skip
+            stacked = torch.cat([frames, guides.to(frames)], 2)
+        padded = F.pad(stacked.flatten(0, 1), (0, pad_w, 0, pad_h), mode="replicate")
+        padded = padded.unflatten(0, (n, t))
         hidden, aux, blended, previous = state if state is not None else (None,) * 4
         outputs, self.last_attention = [], []
         for step in range(t):
-            blurred = padded[:, step]
+            inputs = padded[:, step]
+            blurred = inputs[:, :3]
             if config.align and config.recurrent and previous is not None and hidden is not None:
                 with torch.no_grad():
                     moved = frame_translation(previous, blurred) / self.stride
                 hidden, aux, blended = (None if part is None else shift_features(part, moved)
                                         for part in (hidden, aux, blended))  # fmt: skip
             previous = blurred
-            full = self.encode_full(blurred)
+            full = self.encode_full(inputs)
             features = self.encode(full)
             if hidden is None or not config.recurrent:
                 hidden = features.new_zeros(n, config.hidden, *features.shape[-2:])

@@ -4,7 +4,8 @@ Clips of ``clip_frames`` consecutive blurred frames with their sharp frames from
 training sequences; random crops, flips and time reversal; Charbonnier loss
 sqrt((L_t - S_t)^2 + eps^2) against the sharp frame; Adam with a cosine learning rate. The end
 of every training sequence (:func:`~blurloc.train.loop.validation_cut`) is held out for
-validation.
+validation. A network with ``wiener_input`` reads Wiener copies of the training frames, computed
+once on whole frames.
 """
 
 from __future__ import annotations
@@ -22,9 +23,9 @@ from tqdm.auto import tqdm
 from ..checkpoints import CHECKPOINT_FORMATS, save_checkpoint
 from ..config import seed_everything
 from ..data.sevenscenes import SequenceFrames, list_scenes, load_split, read_image
-from ..inference import restore_sequence, to_tensor
+from ..inference import restore_sequence, to_tensor, to_uint8
 from ..metrics import mean_frame_psnr
-from ..models.video_deblur import VideoDeblurNet
+from ..models.video_deblur import VideoDeblurNet, wiener_guides
 from .config import VideoTrainConfig
 from .loop import (
     choose_device,
@@ -120,31 +121,52 @@ def _read_video(sequence: SequenceFrames, frames: tuple[int, ...]) -> Video:
 
 
 def _sample_clips(
-    sequences: list[Video], config: VideoTrainConfig, rng: np.random.Generator
-) -> tuple[torch.Tensor, torch.Tensor]:
-    """A batch of random clips: crops, flips and time reversal shared by blurred and sharp."""
+    sequences: list[tuple[np.ndarray, ...]], config: VideoTrainConfig, rng: np.random.Generator
+) -> list[torch.Tensor]:
+    """A batch of random clips: crops, flips and time reversal shared by every video of a
+    sequence's tuple (blurred, sharp and, for a network with ``wiener_input``, the Wiener
+    copies of the blurred frames)."""
     usable = [s for s in sequences if len(s[0]) >= config.clip_frames]
     if not usable:
         raise ValueError(f"no training sequence has {config.clip_frames} frames")
-    blurred_batch, sharp_batch = [], []
+    batches: list[list[np.ndarray]] = [[] for _ in usable[0]]
     for _ in range(config.batch):
-        blurred, sharp = usable[rng.integers(len(usable))]
-        start = rng.integers(0, len(blurred) - config.clip_frames + 1)
-        height, width = blurred.shape[1:3]
+        videos = usable[rng.integers(len(usable))]
+        start = rng.integers(0, len(videos[0]) - config.clip_frames + 1)
+        height, width = videos[0].shape[1:3]
         crop_h, crop_w = min(config.crop, height), min(config.crop, width)
         top, left = rng.integers(0, height - crop_h + 1), rng.integers(0, width - crop_w + 1)
         window = (slice(start, start + config.clip_frames), slice(top, top + crop_h),
                   slice(left, left + crop_w))  # fmt: skip
-        clip_b, clip_s = blurred[window], sharp[window]
+        clips = [video[window] for video in videos]
         if rng.random() < 0.5:
-            clip_b, clip_s = clip_b[:, :, ::-1], clip_s[:, :, ::-1]
+            clips = [clip[:, :, ::-1] for clip in clips]
         if rng.random() < 0.5:
-            clip_b, clip_s = clip_b[:, ::-1], clip_s[:, ::-1]
+            clips = [clip[:, ::-1] for clip in clips]
         if rng.random() < 0.5:
-            clip_b, clip_s = clip_b[::-1], clip_s[::-1]
-        blurred_batch.append(clip_b)
-        sharp_batch.append(clip_s)
-    return to_tensor(np.stack(blurred_batch)), to_tensor(np.stack(sharp_batch))
+            clips = [clip[::-1] for clip in clips]
+        for batch, clip in zip(batches, clips, strict=True):
+            batch.append(clip)
+    return [to_tensor(np.stack(batch)) for batch in batches]
+
+
+def with_wiener_guides(videos: list[Video]) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Training videos with the Wiener copy of every blurred frame, computed once on whole
+    frames (:func:`~blurloc.models.video_deblur.wiener_guides`), so that a crop of a clip reads
+    the copy its whole frame gives, as the network computes it at inference.
+
+    Parameters
+    ----------
+    videos : list of (blurred, sharp)
+        uint8 (T, H, W, 3) pairs.
+
+    Returns
+    -------
+    list of (blurred, sharp, guides)
+        ``guides`` uint8 (T, H, W, 3), the Wiener copies of ``blurred``.
+    """
+    return [(blurred, sharp, to_uint8(wiener_guides(to_tensor(blurred)[None])[0]))
+            for blurred, sharp in videos]  # fmt: skip
 
 
 def validation_psnr(model: VideoDeblurNet, sequences: list[Video], device: torch.device) -> float:
@@ -254,13 +276,15 @@ def _train(
         rng.bit_generator.state = resumed["rng"]
         torch.set_rng_state(resumed["torch_rng"])
         elapsed = history["seconds"][-1] if history["seconds"] else 0.0
+    videos = (with_wiener_guides(splits["train"]) if config.model.wiener_input
+              else splits["train"])  # fmt: skip
     losses, started = [], time.perf_counter() - elapsed
     bar = tqdm(total=config.steps, initial=step, disable=not progress, desc="video deblur")
     first_step = step
     while step < config.steps:
         model.train()
-        blurred, sharp = _sample_clips(splits["train"], config, rng)
-        restored, _ = model(blurred.to(device))
+        blurred, sharp, *guides = _sample_clips(videos, config, rng)
+        restored, _ = model(blurred.to(device), guides=guides[0].to(device) if guides else None)
         loss = torch.sqrt((restored - sharp.to(device)) ** 2 + config.charbonnier_eps**2).mean()
         optimiser.zero_grad()
         loss.backward()
