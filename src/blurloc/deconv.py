@@ -47,7 +47,8 @@ NSR_EXPONENT = 0.72
 #: - and the length refined from the sinc zeros is at most GATE_MAX_AGREEMENT times the coarse
 #:   length of the length model (both in the image's pixels): a refined length well above the
 #:   coarse one is the fit locking onto a multiple of the blur's zeros or onto the zeros of
-#:   periodic content, and deconvolving by a kernel too long rings.
+#:   periodic content, and deconvolving by a kernel too long rings (infinite: no bound;
+#:   ``benchmarks/choose_blind_gate.py`` grids it with the other thresholds).
 #:
 #: Chosen by ``benchmarks/choose_blind_gate.py`` on scikit-image photographs blurred as a camera
 #: blurs them (sub-frames along shake paths, turned about the centre, averaged in linear light,
