@@ -19,6 +19,7 @@ from blurloc.blur import (
 )
 from blurloc.data.real import entry_path, load_pairs, part_entries
 from blurloc.deconv import (
+    GATE_MAX_AGREEMENT,
     GATE_MAX_LENGTH,
     GATE_MIN_ANISOTROPY,
     GATE_MIN_FIT,
@@ -396,6 +397,27 @@ def test_gate_thresholds() -> None:
     assert not blind_restoration_expected_to_gain(unrefined, features, sigma, GATE_MIN_LENGTH)
     isotropic = BlurFeatures(np.zeros(78), 0.0, anisotropy=0.9 * GATE_MIN_ANISOTROPY, scale=1.0)
     assert not blind_restoration_expected_to_gain(trusted, isotropic, sigma, GATE_MIN_LENGTH)
+
+
+def test_gate_rejects_a_refined_length_far_above_the_coarse_one() -> None:
+    """The sinc-refined length is compared with the coarse length in the image's pixels: at
+    scale 2 a coarse length of 6 analysis px is 12 image px."""
+    features = BlurFeatures(np.zeros(62), 0.0, anisotropy=GATE_MIN_ANISOTROPY, scale=2.0)
+    length = 1.5 * GATE_MIN_LENGTH
+    agreement = min(GATE_MAX_AGREEMENT, 1.5)  # finite even where the gate ships without the bound
+    coarse_px = length * features.scale
+
+    def gains(refined_px: float, max_agreement: float = GATE_MAX_AGREEMENT) -> bool:
+        estimate = BlurEstimate(length_px=refined_px, angle_deg=0.0, fit=GATE_MIN_FIT)
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setattr("blurloc.deconv.GATE_MAX_AGREEMENT", max_agreement)
+            return blind_restoration_expected_to_gain(
+                estimate, features, GATE_REFERENCE_NOISE, length
+            )
+
+    assert gains(agreement * coarse_px, agreement)
+    assert not gains(1.01 * agreement * coarse_px, agreement)
+    assert gains(coarse_px)  # agreeing lengths pass at the shipped bound
 
 
 def _changes(

@@ -43,7 +43,12 @@ NSR_EXPONENT = 0.72
 #:   values below, L >= 400 sigma: 4 px at sigma 0.01, 8 px at 0.02): the frequencies that
 #:   deconvolution lifts must stand above the noise, and a short blur leaves little to recover
 #:   while the filter still amplifies the noise;
-#: - and at most GATE_MAX_LENGTH: a long exposure's path is rarely one straight line.
+#: - at most GATE_MAX_LENGTH: a long exposure's path is rarely one straight line;
+#: - and the length refined from the sinc zeros is at most GATE_MAX_AGREEMENT times the coarse
+#:   length of the length model (both in the image's pixels): a refined length well above the
+#:   coarse one is the fit locking onto a multiple of the blur's zeros or onto the zeros of
+#:   periodic content, and deconvolving by a kernel too long rings (infinite: no bound;
+#:   ``benchmarks/choose_blind_gate.py`` grids it with the other thresholds).
 #:
 #: Chosen by ``benchmarks/choose_blind_gate.py`` on scikit-image photographs blurred as a camera
 #: blurs them (sub-frames along shake paths, turned about the centre, averaged in linear light,
@@ -55,6 +60,7 @@ GATE_MIN_LENGTH = 4.0
 GATE_REFERENCE_NOISE = 0.01
 GATE_NOISE_EXPONENT = 1.0
 GATE_MAX_LENGTH = 20.0
+GATE_MAX_AGREEMENT = float("inf")
 
 
 def kernel_to_otf(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
@@ -313,15 +319,18 @@ def blind_restoration_expected_to_gain(
     .. math::
 
         \rho \ge \rho_{\min}, \quad a \ge a_{\min}, \quad
-        L_{\min} \left(\frac{\sigma}{\sigma_0}\right)^{k} \le L \le L_{\max}
+        L_{\min} \left(\frac{\sigma}{\sigma_0}\right)^{k} \le L \le L_{\max}, \quad
+        \hat{L} \le g_{\max}\, s L
 
     with :math:`\rho` the sinc fit's correlation (``estimate.fit``, 0 when the length was not
     refined from the sinc zeros), :math:`a` the features' anisotropy, :math:`\sigma` the noise
-    sigma and :math:`L` the blur length at the analysis scale
-    (:func:`~blurloc.blur.analysis_length`); :math:`\rho_{\min}` = GATE_MIN_FIT,
+    sigma, :math:`L` the blur length at the analysis scale
+    (:func:`~blurloc.blur.analysis_length`), :math:`\hat{L}` the estimate's length
+    (``estimate.length_px``, refined from the sinc zeros) and :math:`s` the features' scale
+    (image px per analysis px); :math:`\rho_{\min}` = GATE_MIN_FIT,
     :math:`a_{\min}` = GATE_MIN_ANISOTROPY, :math:`L_{\min}` = GATE_MIN_LENGTH,
-    :math:`\sigma_0` = GATE_REFERENCE_NOISE, :math:`k` = GATE_NOISE_EXPONENT and
-    :math:`L_{\max}` = GATE_MAX_LENGTH.
+    :math:`\sigma_0` = GATE_REFERENCE_NOISE, :math:`k` = GATE_NOISE_EXPONENT,
+    :math:`L_{\max}` = GATE_MAX_LENGTH and :math:`g_{\max}` = GATE_MAX_AGREEMENT.
 
     Parameters
     ----------
@@ -347,7 +356,12 @@ def blind_restoration_expected_to_gain(
     Trans. Image Process. 21(8), 2012 (what restoration gains depends on the blur and the
     noise). Immerkær, "Fast noise variance estimation", CVIU 1996.
     """
-    return estimate.fit >= GATE_MIN_FIT and _trusted_frame(features, noise_sigma, length)
+    length = analysis_length(features) if length is None else length
+    return (
+        estimate.fit >= GATE_MIN_FIT
+        and estimate.length_px <= GATE_MAX_AGREEMENT * length * features.scale
+        and _trusted_frame(features, noise_sigma, length)
+    )
 
 
 def _trusted_frame(features: BlurFeatures, noise_sigma: float, length: float | None) -> bool:
