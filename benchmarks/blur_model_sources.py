@@ -40,24 +40,14 @@ from blurloc.blur import (
     calibrate_blur_threshold,
     fit_length_model,
 )
-from blurloc.data import load_split
-from blurloc.data.real import (
-    POSED_SCENE,
-    load_photographs,
-    posed_camera,
-    posed_frame_table,
-    posed_root,
-)
+from blurloc.data.real import load_photographs
 from blurloc.experiments.blur_estimation import (
     TRAINING_PHOTOS,
-    camera_motion_px,
     length_training_set,
     photo_training_set,
 )
+from blurloc.experiments.real_frames import SKIMAGE_NAMES, posed_frames_with_motion
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
-
-#: File stems of scikit-image photographs whose ``skimage.data`` function has another name.
-SKIMAGE_NAMES = {"ihc": "immunohistochemistry", "motorcycle_left": "stereo_motorcycle"}
 
 
 def predictions(model, features: np.ndarray) -> np.ndarray:
@@ -75,13 +65,7 @@ def fitted_threshold(model, features: np.ndarray, extents: np.ndarray) -> float:
 
 def posed_features() -> tuple[np.ndarray, np.ndarray]:
     """Feature rows of the real posed frames and their camera image motion (px per interval)."""
-    sequences = [s for split in ("train", "test") for s in load_split(posed_root(), POSED_SCENE,
-                                                                       split)]  # fmt: skip
-    poses = np.concatenate([s.poses() for s in sequences])
-    images = np.concatenate([s.images() for s in sequences])
-    depths = np.array([float(row["depth_median_m"]) for row in posed_frame_table()])
-    size = (images.shape[2], images.shape[1])
-    motion = camera_motion_px(poses, depths, posed_camera(), size)
+    images, motion = posed_frames_with_motion()
     return np.stack([blur_features(image).values for image in images]), motion
 
 
