@@ -38,3 +38,13 @@ def test_a_foreign_dataset_is_left_untouched(tmp_path: Path) -> None:
 def test_an_unknown_device_is_refused() -> None:
     with pytest.raises(ValueError, match="--device 'gpu0'"):
         setup(True, 0, "d", "r", "f", device="gpu0", prepare_data=False)
+
+
+def test_progress_bars_only_in_a_full_run_by_a_person(monkeypatch: pytest.MonkeyPatch) -> None:
+    from blurloc.config import HEADLESS_VARIABLE
+    from blurloc.notebook import show_progress
+
+    monkeypatch.delenv(HEADLESS_VARIABLE, raising=False)
+    assert show_progress(False) and not show_progress(True)
+    monkeypatch.setenv(HEADLESS_VARIABLE, "1")  # set by the notebook runner
+    assert not show_progress(False)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from blurloc.publish import code_sources, published_copy, stale_notebooks
+from blurloc.publish import code_sources, published_copy, reading_problems, stale_notebooks
 from blurloc.runner import notebook_names
 
 
@@ -48,3 +48,48 @@ def test_code_that_changed_since_the_run_is_refused() -> None:
 
 def test_published_notebooks_were_executed_from_the_current_sources() -> None:
     assert stale_notebooks(notebook_names()) == []
+
+
+def _figure(data: str, alt: str = "") -> dict:
+    metadata = {"image/png": {"alt": alt}} if alt else {}
+    return {"output_type": "display_data", "data": {"image/png": data}, "metadata": metadata}
+
+
+def test_reading_problems_finds_what_a_reader_should_not_see() -> None:
+    printed = {"output_type": "stream", "name": "stdout", "text": "relative/figures/a.png"}
+    clean = {"cells": [_cell("code", "plot()", (), [_figure("AAA", "kernels")]),
+                       _cell("code", "print(x)", (), [printed])]}  # fmt: skip
+    assert reading_problems(clean) == []
+    messy = {"cells": [
+        _cell("code", "a()", (), [{"output_type": "stream", "name": "stderr",
+                                   "text": "estimation:  40%|####      | 4/10"}]),
+        _cell("code", "b()", (), [_figure("AAA")]),
+        _cell("code", "c()", (), [_figure("AAA", "again")]),
+        _cell("code", "d()", (), [{"output_type": "execute_result",
+                                   "data": {"text/plain": "interactive(children=(FloatSlider"}}]),
+        _cell("code", "e()", (), [{"output_type": "stream", "name": "stdout",
+                                   "text": "written to /work/main/results/x.csv"}]),
+    ]}  # fmt: skip
+    assert reading_problems(messy) == [
+        "cell 0: stderr output", "cell 0: a progress bar", "cell 1: a figure without alt text",
+        "cell 2: the figure of cell 1 shown again", "cell 3: a widget's text",
+        "cell 4: an absolute path",
+    ]  # fmt: skip
+
+
+@pytest.mark.xfail(
+    reason="the executed copies predate headless progress (republished by the next full run: "
+    "make reproduce, then publishing), and figures are shown without alt text until "
+    "plots.save_figure gives them one",
+    strict=False,
+)
+def test_executed_copies_read_cleanly() -> None:
+    import json
+
+    from blurloc.config import NOTEBOOKS_DIR
+
+    problems = {}
+    for name in notebook_names():
+        executed = json.loads((NOTEBOOKS_DIR / "executed" / f"{name}.ipynb").read_text())
+        problems[name] = reading_problems(executed)
+    assert {name: found for name, found in problems.items() if found} == {}

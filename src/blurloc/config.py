@@ -16,6 +16,9 @@ from .files import atomic_path
 #: The environment variable that names the project folder, overriding the search.
 PROJECT_VARIABLE = "BLURLOC_ROOT"
 
+#: The environment variable the notebook runner sets: no progress bars in executed copies.
+HEADLESS_VARIABLE = "BLURLOC_HEADLESS"
+
 #: The project's folders, by the module attribute that names each (resolved when read).
 PROJECT_FOLDERS = {
     "NOTEBOOKS_DIR": "notebooks",

@@ -6,7 +6,7 @@ import os
 from pathlib import Path
 from typing import NamedTuple
 
-from .config import default_data_root, project_root, seed_everything
+from .config import HEADLESS_VARIABLE, default_data_root, project_root, seed_everything
 from .data.synth import prepare_data_root
 from .train.loop import choose_device
 
@@ -69,11 +69,31 @@ def setup(
     seed_everything(seed)
     data = Path(data_root) if data_root else default_data_root(quick)
     if prepare_data:
-        prepare_data_root(data, quick, seed, progress=not quick)
+        prepare_data_root(data, quick, seed, progress=show_progress(quick))
     chosen = None if device is None else str(choose_device(device))
     return NotebookSetup(
         data, _folder(results_dir, "results"), _folder(figures_dir, "figures"), chosen
     )
+
+
+def show_progress(quick: bool) -> bool:
+    """Whether a notebook's long loops draw progress bars.
+
+    Only in a full run by a person: not in quick mode, and not when the notebook runner
+    executes the notebook (it sets the environment variable ``BLURLOC_HEADLESS``), so that
+    executed copies carry no progress-bar debris.
+
+    Parameters
+    ----------
+    quick : bool
+        The notebook's quick mode.
+
+    Returns
+    -------
+    bool
+        True to draw progress bars.
+    """
+    return not quick and not os.environ.get(HEADLESS_VARIABLE)
 
 
 def _folder(given: str | os.PathLike, default: str) -> Path:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import copy
 import json
 import os
+import re
 from pathlib import Path
 
 from .config import project_root
@@ -167,3 +168,51 @@ def stale_notebooks(names: list[str], published_dir: str | os.PathLike | None = 
         if not path.is_file() or code_sources(_read(path)) != code_sources(source):
             stale.append(name)
     return stale
+
+
+#: Text in an executed copy's outputs that a reader should not see.
+_DEBRIS = (
+    (re.compile(r"\d+%\|.*\|"), "a progress bar"),
+    (re.compile(r"interactive\(children=|VBox\(children=|HBox\(children="), "a widget's text"),
+    (re.compile(r"(?<![\w.])(/work/|/home/|/tmp/|/root/|/Users/|[A-Z]:\\\\)"), "an absolute path"),
+)
+
+
+def reading_problems(notebook: dict) -> list[str]:
+    """What in an executed notebook would not read cleanly on a code host.
+
+    Checks every code cell's outputs for stderr text, progress bars, widget text standing where
+    a static figure or a plain note should, absolute paths, PNG figures without alt text (the
+    output's ``metadata["image/png"]["alt"]``) and the same figure shown twice.
+
+    Parameters
+    ----------
+    notebook : dict
+        An executed notebook (nbformat 4 JSON).
+
+    Returns
+    -------
+    list of str
+        One line per problem (``"cell 12: an absolute path"``); empty when it reads cleanly.
+    """
+    problems, seen = [], {}
+    code = [c for c in notebook["cells"] if c["cell_type"] == "code"]
+    for index, cell in enumerate(code):
+        for output in cell.get("outputs", []):
+            if output.get("output_type") == "stream" and output.get("name") == "stderr":
+                problems.append(f"cell {index}: stderr output")
+            data = output.get("data", {})
+            texts = ["".join(output.get("text", "")), "".join(data.get("text/plain", ""))]
+            for pattern, what in _DEBRIS:
+                if any(pattern.search(text) for text in texts):
+                    problems.append(f"cell {index}: {what}")
+            png = data.get("image/png")
+            if png is None:
+                continue
+            png = "".join(png)
+            if not output.get("metadata", {}).get("image/png", {}).get("alt"):
+                problems.append(f"cell {index}: a figure without alt text")
+            if png in seen:
+                problems.append(f"cell {index}: the figure of cell {seen[png]} shown again")
+            seen.setdefault(png, index)
+    return problems

@@ -2,12 +2,20 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
-from .config import DEFAULT_SEED, default_data_root, project_root, write_rows
+from .config import (
+    DEFAULT_SEED,
+    HEADLESS_VARIABLE,
+    default_data_root,
+    project_root,
+    write_rows,
+)
 
 #: Figure and table files (under ``figures_dir``) that each notebook promises to write.
 EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
@@ -155,6 +163,19 @@ def notebook_names() -> list[str]:
     return sorted(path.stem for path in notebooks.glob("[0-9][0-9]_*.ipynb"))
 
 
+@contextlib.contextmanager
+def _headless() -> Iterator[None]:
+    previous = os.environ.get(HEADLESS_VARIABLE)
+    os.environ[HEADLESS_VARIABLE] = "1"
+    try:
+        yield
+    finally:
+        if previous is None:
+            os.environ.pop(HEADLESS_VARIABLE, None)
+        else:
+            os.environ[HEADLESS_VARIABLE] = previous
+
+
 def default_parameters(quick: bool) -> dict:
     """The parameters ``make reproduce`` passes to every notebook.
 
@@ -244,34 +265,35 @@ def run_notebooks(
     # The python3 kernel must be this interpreter (the one with blurloc installed).
     os.environ["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), os.environ["PATH"]])
     timings = []
-    for name in names:
-        start = time.perf_counter()
-        executed = output_dir / f"{name}.ipynb"
-        try:
-            papermill.execute_notebook(
-                str(notebooks / f"{name}.ipynb"),
-                str(executed),
-                parameters=params,
-                kernel_name="python3",
-                cwd=str(notebooks),
-                execution_timeout=cell_timeout_s,
-                log_output=log_output,
-                progress_bar=False,
-                # the kernel's own log (a warning that it talks to papermill over local TCP, an
-                # interrupt it recovers from) is not the notebook's; cell errors still raise
-                extra_arguments=["--log-level=CRITICAL"],
-            )
-        except papermill.PapermillExecutionError as error:
-            line = ((error.source or "").strip().splitlines() or [""])[0]
-            line = line if len(line) <= 60 else f"{line[:57]}..."
-            raise NotebookError(
-                f"{notebooks / name}.ipynb: cell In [{error.exec_count}] "
-                f"({line!r}) failed with {error.ename}: {error.evalue} "
-                f"(full traceback in {executed}, cell {error.cell_index})"
-            ) from None
-        seconds = time.perf_counter() - start
-        timings.append((name, round(seconds, 1)))
-        print(f"{name}: {seconds:.1f} s", flush=True)
+    with _headless():  # the kernels inherit it: no progress bars in the executed copies
+        for name in names:
+            start = time.perf_counter()
+            executed = output_dir / f"{name}.ipynb"
+            try:
+                papermill.execute_notebook(
+                    str(notebooks / f"{name}.ipynb"),
+                    str(executed),
+                    parameters=params,
+                    kernel_name="python3",
+                    cwd=str(notebooks),
+                    execution_timeout=cell_timeout_s,
+                    log_output=log_output,
+                    progress_bar=False,
+                    # the kernel's own log (a warning that it talks to papermill over local TCP, an
+                    # interrupt it recovers from) is not the notebook's; cell errors still raise
+                    extra_arguments=["--log-level=CRITICAL"],
+                )
+            except papermill.PapermillExecutionError as error:
+                line = ((error.source or "").strip().splitlines() or [""])[0]
+                line = line if len(line) <= 60 else f"{line[:57]}..."
+                raise NotebookError(
+                    f"{notebooks / name}.ipynb: cell In [{error.exec_count}] "
+                    f"({line!r}) failed with {error.ename}: {error.evalue} "
+                    f"(full traceback in {executed}, cell {error.cell_index})"
+                ) from None
+            seconds = time.perf_counter() - start
+            timings.append((name, round(seconds, 1)))
+            print(f"{name}: {seconds:.1f} s", flush=True)
     write_rows([{"notebook": n, "seconds": s} for n, s in timings], output_dir / "timings.csv",
                ["notebook", "seconds"])  # fmt: skip
     return timings
