@@ -38,6 +38,25 @@ def test_the_published_copy_is_the_current_notebook_with_the_runs_outputs() -> N
     assert SOURCE["cells"][2]["outputs"] == []  # the source is not modified
 
 
+def test_the_machine_path_of_the_run_is_not_published(
+    make_project, tmp_path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    root = make_project(tmp_path).resolve()
+    monkeypatch.setenv("BLURLOC_ROOT", str(root))
+    printed = {"output_type": "stream", "name": "stdout",
+               "text": [f"written to {root}/results/deblurred/rnn\n", f"root {root}\n"]}  # fmt: skip
+    executed = {"cells": [*EXECUTED["cells"][:2],
+                          _cell("code", f'data_root = "{root}/data/standin"',
+                                ("injected-parameters",)),
+                          _cell("code", "print(1)", (), [printed])]}  # fmt: skip
+    published = published_copy(SOURCE, executed, "demo")
+    assert published["cells"][2]["source"] == 'data_root = "../data/standin"'
+    assert published["cells"][3]["outputs"][0]["text"] == [
+        "written to results/deblurred/rnn\n", "root .\n"]  # fmt: skip
+    assert reading_problems(published) == []
+    assert str(root) in executed["cells"][2]["source"]  # the executed notebook is not modified
+
+
 def test_code_that_changed_since_the_run_is_refused() -> None:
     changed = {"cells": [*SOURCE["cells"][:2], _cell("code", "print(2)")]}
     with pytest.raises(ValueError, match="demo: code cell 1 differs"):

@@ -66,7 +66,10 @@ def published_copy(source: dict, executed: dict, name: str = "notebook") -> dict
     -------
     dict
         ``source``'s cells with the executed code cells' outputs and execution counts, and
-        papermill's injected-parameters cell after the parameters cell.
+        papermill's injected-parameters cell after the parameters cell. The project's
+        absolute path is made relative: ``../`` in those parameters (the notebooks run in
+        ``notebooks/``), the project's root in printed text (``/home/me/blurloc/results/x``
+        reads ``results/x``).
 
     Raises
     ------
@@ -83,6 +86,8 @@ def published_copy(source: dict, executed: dict, name: str = "notebook") -> dict
             raise ValueError(f"{name}: code cell {index} differs from the one that ran; "
                              "run the notebooks again (make reproduce)")  # fmt: skip
     published = copy.deepcopy(source)
+    executed = _without_root(executed, str(project_root()))
+    ran = [c for c in executed["cells"] if c["cell_type"] == "code" and not _injected(c)]
     outputs = iter(ran)
     cells = []
     for cell in published["cells"]:
@@ -95,6 +100,33 @@ def published_copy(source: dict, executed: dict, name: str = "notebook") -> dict
             cells += [c for c in executed["cells"] if _injected(c)]
     published["cells"] = cells
     return published
+
+
+def _without_root(notebook: dict, root: str) -> dict:
+    """A copy of an executed notebook without the project's absolute path: in papermill's
+    parameters it becomes ``../`` (the notebooks run in ``notebooks/``), in printed text a path
+    relative to the project."""
+    prefix = re.compile(re.escape(root.rstrip("/\\")) + r"(?:[/\\]|(?=[\s\"',)]|$))")
+
+    def relative(value, replacement: str):
+        if isinstance(value, str):  # the root itself: "." or ".."; a path below it: "" or "../"
+            return prefix.sub(lambda found: replacement if found.group(0)[-1:] in "/\\"
+                              else replacement.rstrip("/") or ".", value)  # fmt: skip
+        if isinstance(value, list):
+            return [relative(item, replacement) for item in value]
+        return value
+
+    notebook = copy.deepcopy(notebook)
+    for cell in notebook["cells"]:
+        if _injected(cell):
+            cell["source"] = relative(cell["source"], "../")
+        for output in cell.get("outputs", []):
+            if "text" in output:
+                output["text"] = relative(output["text"], "")
+            for kind in ("text/plain", "text/markdown", "text/html"):
+                if kind in output.get("data", {}):
+                    output["data"][kind] = relative(output["data"][kind], "")
+    return notebook
 
 
 def publish_notebooks(
