@@ -4,8 +4,9 @@ Every page of the book (the entry page, the pages of ``docs/``, the executed not
 loaded, one per Chromium run, in a frame of a small checking page; once it has loaded and MathJax
 has typeset it, every image is read back: loaded, with a ``naturalWidth`` above 0. A page
 fails if it does not load, if an image does not decode or has no width, if an executed
-notebook shows no figure, or if a notebook's TeX is left untypeset while MathJax is in the
-book. Screenshots of the entry page and of one notebook are saved for a person to look at.
+notebook shows no figure or a figure without alternative text, or if a notebook's TeX is left
+untypeset while MathJax is in the book. Screenshots of the entry page and of one notebook are
+saved for a person to look at.
 
 Usage: ``python docs/check_book.py [build/site] [--screenshots build/book-check]``; exit
 status 1 on any failure. Needs Chromium (Debian: ``apt-get install chromium``).
@@ -38,7 +39,8 @@ function inspect(frame) {
     text_length: doc.body ? doc.body.innerText.length : 0,
     images: Array.from(doc.images).map(image => ({
       src: (image.getAttribute('src') || '').slice(0, 60),
-      width: image.naturalWidth, decoded: image.complete && image.naturalHeight > 0})),
+      width: image.naturalWidth, decoded: image.complete && image.naturalHeight > 0,
+      alt: image.getAttribute('alt') || ''})),
     typeset_math: doc.querySelectorAll('.MathJax_CHTML').length,
     tex_source: /\\$[^$\\n]+\\$/.test(doc.body ? doc.body.innerText : ''),
   };
@@ -186,6 +188,10 @@ def page_failures(page: str, result: dict, mathjax_in_book: bool) -> list[str]:
             failures.append(f"{page}: image {image['src']} does not show")
     if page.startswith("notebooks/") and not any(image["width"] for image in result["images"]):
         failures.append(f"{page}: no figure shows")
+    if page.startswith("notebooks/"):
+        for image in result["images"]:
+            if not image.get("alt", "").strip():
+                failures.append(f"{page}: figure {image['src']} has no alternative text")
     if page.startswith("notebooks/") and mathjax_in_book and result["tex_source"]:
         failures.append(f"{page}: TeX shown as source ({result['typeset_math']} typeset)")
     return failures

@@ -6,7 +6,9 @@ the path it has in the repository, so every relative link resolves in the book a
 the repository. The one link that cannot, the README's link to the built book itself, is
 pointed at the entry page. Where Debian's ``libjs-mathjax`` is installed, the parts of
 MathJax 2 that typeset the notebooks' TeX go to ``assets/mathjax/`` (about 2 MB), so the
-equations render without fetching anything; without it they show as TeX source.
+equations render without fetching anything; without it they show as TeX source. A notebook
+figure's alternative text (``metadata["image/png"]["alt"]`` of its output, which the notebook
+renderer of the book does not read) is carried into the page as the image's ``alt``.
 
 Usage: ``python docs/stage_book.py build/book-src`` (``make docs`` runs it, then MkDocs).
 """
@@ -14,6 +16,8 @@ Usage: ``python docs/stage_book.py build/book-src`` (``make docs`` runs it, then
 from __future__ import annotations
 
 import argparse
+import html
+import json
 import re
 import shutil
 from pathlib import Path
@@ -105,6 +109,33 @@ def stage_mathjax(out: Path, source: Path = MATHJAX_SOURCE) -> bool:
     return True
 
 
+def images_with_alt(notebook: dict) -> dict:
+    """Give every PNG output that has alternative text an HTML form ``<img alt=...>`` too.
+
+    The book's notebook renderer shows an output's HTML before its PNG, and its PNG template
+    drops the ``alt`` that the output's metadata carries; the HTML form keeps it.
+
+    Parameters
+    ----------
+    notebook : dict
+        An executed notebook (nbformat 4 JSON); changed in place.
+
+    Returns
+    -------
+    dict
+        The same notebook.
+    """
+    for cell in notebook.get("cells", []):
+        for output in cell.get("outputs", []):
+            data = output.get("data", {})
+            alt = output.get("metadata", {}).get("image/png", {}).get("alt")
+            if "image/png" in data and alt and "text/html" not in data:
+                png = "".join(data["image/png"]).replace("\n", "")
+                data["text/html"] = (f'<img src="data:image/png;base64,{png}" '
+                                     f'alt="{html.escape(alt, quote=True)}">')  # fmt: skip
+    return notebook
+
+
 def stage(out: Path, repository: Path = REPOSITORY) -> list[Path]:
     """Copy the book's pages, notebooks and linked files into a fresh folder.
 
@@ -142,7 +173,12 @@ def stage(out: Path, repository: Path = REPOSITORY) -> list[Path]:
         relative = source.relative_to(repository)
         destination = out / relative
         destination.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(source, destination)
+        if relative.match(NOTEBOOK_PATTERN):
+            notebook = images_with_alt(json.loads(source.read_text(encoding="utf-8")))
+            destination.write_text(json.dumps(notebook, indent=1, ensure_ascii=False) + "\n",
+                                   encoding="utf-8")  # fmt: skip
+        else:
+            shutil.copy2(source, destination)
         staged.append(relative)
     readme = out / "README.md"
     readme.write_text(

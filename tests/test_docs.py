@@ -106,15 +106,34 @@ def test_readme_links_the_book_entry_page() -> None:
 
 
 def test_book_check_fails_pages_without_their_figures_or_equations() -> None:
-    shown = {"src": "a.png", "width": 640, "decoded": True}
-    broken = {"src": "b.png", "width": 0, "decoded": False}
+    shown = {"src": "a.png", "width": 640, "decoded": True, "alt": "a plot"}
+    broken = {"src": "b.png", "width": 0, "decoded": False, "alt": "b"}
     page = {"title": "02", "text_length": 5000, "typeset_math": 3, "tex_source": False}
     notebook = "notebooks/executed/02.html"
     assert check_book.page_failures(notebook, page | {"images": [shown]}, True) == []
     assert check_book.page_failures(notebook, page | {"images": [shown, broken]}, True)
     assert check_book.page_failures(notebook, page | {"images": []}, True)
+    unlabelled = shown | {"alt": ""}
+    assert check_book.page_failures(notebook, page | {"images": [unlabelled]}, True) == [
+        f"{notebook}: figure a.png has no alternative text"]  # fmt: skip
+    assert check_book.page_failures("docs/gpu.html", page | {"images": [unlabelled]}, True) == []
     assert check_book.page_failures("docs/gpu.html", page | {"images": []}, True) == []
     untypeset = page | {"images": [shown], "tex_source": True}
     assert check_book.page_failures(notebook, untypeset, True)
     assert check_book.page_failures(notebook, untypeset, False) == []
     assert check_book.page_failures(notebook, {"error": "timed out"}, True)
+
+
+def test_staged_notebook_figures_keep_their_alternative_text() -> None:
+    described = {"output_type": "display_data", "data": {"image/png": "iVBO\nRw==",
+                                                         "text/plain": "x"},
+                 "metadata": {"image/png": {"alt": 'Bars "a" & b'}}}  # fmt: skip
+    bare = {"output_type": "display_data", "data": {"image/png": "AAAA"}, "metadata": {}}
+    notebook = stage_book.images_with_alt(
+        {"cells": [{"cell_type": "code", "outputs": [described, bare]}]}
+    )
+    assert described["data"]["text/html"] == (
+        '<img src="data:image/png;base64,iVBORw==" alt="Bars &quot;a&quot; &amp; b">'
+    )
+    assert "text/html" not in bare["data"]
+    assert notebook["cells"][0]["outputs"][0] is described

@@ -43,8 +43,8 @@ def test_the_machine_path_of_the_run_is_not_published(
 ) -> None:
     root = make_project(tmp_path).resolve()
     monkeypatch.setenv("BLURLOC_ROOT", str(root))
-    printed = {"output_type": "stream", "name": "stdout",
-               "text": [f"written to {root}/results/deblurred/rnn\n", f"root {root}\n"]}  # fmt: skip
+    lines = [f"written to {root}/results/deblurred/rnn\n", f"root {root}\n"]
+    printed = {"output_type": "stream", "name": "stdout", "text": lines}
     executed = {"cells": [*EXECUTED["cells"][:2],
                           _cell("code", f'data_root = "{root}/data/standin"',
                                 ("injected-parameters",)),
