@@ -74,7 +74,7 @@ def nb01_threshold(lengths=(2.0, 2.5, 3.0, 3.5, 4.0, 5.0), seed: int = 0) -> dic
 def nb01_frame_size(length_px: float = 16.0, factor: int = 4, seed: int = 0) -> tuple:
     """01, item 4: the estimated length at full size and after shrinking the frame ``factor``x."""
     rng = np.random.default_rng(seed)
-    blurred = blur_image(camera(), motion_kernel(length_px, 30), 0.002, rng=rng)
+    blurred = blur_image(camera(), motion_kernel(length_px, 30), 0.005, rng=rng)
     small = rescale(blurred, 1 / factor, anti_aliasing=True)
     return estimate_motion_blur(blurred).length_px, estimate_motion_blur(small).length_px
 
