@@ -96,12 +96,6 @@ def test_reading_problems_finds_what_a_reader_should_not_see() -> None:
     ]  # fmt: skip
 
 
-@pytest.mark.xfail(
-    reason="the executed copies predate headless progress (republished by the next full run: "
-    "make reproduce, then publishing), and figures are shown without alt text until "
-    "plots.save_figure gives them one",
-    strict=False,
-)
 def test_executed_copies_read_cleanly() -> None:
     import json
 
