@@ -107,3 +107,27 @@ def test_convert_tum_command_copies_frames_and_refuses_a_missing_file(tmp_path, 
     (source / "groundtruth.txt").unlink()
     assert main(["convert-tum", str(source), str(tmp_path / "other"), "--scene", "rpy"]) == 1
     assert "groundtruth.txt: missing" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("scene", ["", ".", "..", "a/b"])
+def test_convert_tum_refuses_a_scene_that_is_not_a_plain_name(tmp_path, scene):
+    (tmp_path / "dataset").mkdir()
+    kept = tmp_path / "dataset" / "kept.txt"
+    kept.write_text("x")
+    with pytest.raises(ValueError, match="plain folder name"):
+        convert_tum(tmp_path / "recording", tmp_path / "dataset", scene, overwrite=True)
+    assert kept.read_text() == "x"
+
+
+def test_convert_tum_never_deletes_the_recording_it_reads(tmp_path):
+    recording = tmp_path / "root" / "rec"
+    recording.mkdir(parents=True)
+    for name in ("rgb.txt", "groundtruth.txt"):
+        (recording / name).write_text("# kept\n")
+    with pytest.raises(ValueError, match="output is the input"):  # out/scene is the recording
+        convert_tum(recording, tmp_path / "root", "rec", overwrite=True)
+    with pytest.raises(ValueError, match="recording"):  # out/scene holds the recording
+        convert_tum(tmp_path / "root" / "rec", tmp_path, "root", overwrite=True)
+    with pytest.raises(ValueError, match="inside the input"):  # out/scene inside the recording
+        convert_tum(recording, recording, "scene", overwrite=True)
+    assert sorted(p.name for p in recording.iterdir()) == ["groundtruth.txt", "rgb.txt"]

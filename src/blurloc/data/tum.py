@@ -21,7 +21,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation, Slerp
 
 from ..errors import DataError
-from ..files import decode_image
+from ..files import check_output_not_input, decode_image
 
 #: Columns of the ``frames.csv`` that :func:`convert_tum` writes beside the sequences.
 FRAME_COLUMNS = ("frame", "sequence", "stamp", "source")
@@ -208,12 +208,18 @@ def convert_tum(
         Naming the file, when ``rgb.txt``, ``groundtruth.txt`` or a frame is missing or
         unreadable, or no frame lies inside the ground truth's time span.
     ValueError
-        If ``out/scene`` exists without ``overwrite``, ``width`` is not positive or the counts
-        do not allow a split (:func:`split_sequences`).
+        If ``out/scene`` exists without ``overwrite``, ``scene`` is not a plain folder name,
+        ``out/scene`` is the recording, holds it or lies inside it, ``width`` is not positive or
+        the counts do not allow a split (:func:`split_sequences`).
     """
     source, folder = Path(source), Path(out) / scene
     if width is not None and width < 1:
         raise ValueError(f"width must be > 0, got {width}")
+    if scene in ("", ".", "..") or Path(scene).name != scene:
+        raise ValueError(f"scene {scene!r}: give a plain folder name (no separator, '.' or '..')")
+    check_output_not_input(folder, source)
+    if folder.resolve() in (source.resolve(), *source.resolve().parents):
+        raise ValueError(f"{folder}: holds the recording {source}; choose another place")
     if folder.exists():
         if not overwrite:
             raise ValueError(f"{folder}: exists; give overwrite=True (--overwrite) to replace it")
