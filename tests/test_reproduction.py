@@ -5,13 +5,14 @@ writes."""
 from __future__ import annotations
 
 import csv
+import json
 import re
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from blurloc.config import FIGURES_DIR
+from blurloc.config import FIGURES_DIR, NOTEBOOKS_DIR
 from blurloc.paper import paper_values, reported_numbers
 from blurloc.reproduction import (
     SCENE_ORDER,
@@ -140,6 +141,14 @@ def test_readme_and_docs_show_only_figures_that_notebooks_or_benchmarks_write() 
     figure_link = re.compile(r"\]\((?:\.\./)?figures/([\w.-]+)\)")
     shown = {name for page in PAGES for name in figure_link.findall(page.read_text())}
     written = {file for files in EXPECTED_OUTPUTS.values() for file in files}
+    saved_by_notebooks = {  # save_table(..., figures_dir, "name") and save_figure alike
+        name
+        for notebook in NOTEBOOKS_DIR.glob("*.ipynb")
+        for cell in json.loads(notebook.read_text())["cells"]
+        if cell["cell_type"] == "code"
+        for name in re.findall(r'figures_dir,\s*"([\w.-]+)"', "".join(cell["source"]))
+    }
+    written |= {f"{name}.{ext}" for name in saved_by_notebooks for ext in ("md", "csv", "png")}
     benchmarks = (Path(__file__).parents[1] / "benchmarks").glob("*.py")
     written |= {
         f"{script.stem}.{suffix}" for script in benchmarks for suffix in ("md", "csv", "png", "pdf")
