@@ -400,3 +400,13 @@ def test_load_encoder_weights_names_the_file(tmp_path: Path) -> None:
     for path, reason in cases:
         with pytest.raises(ValueError, match=rf"^{path}: {reason}"):
             load_encoder_weights(encoder, path)
+
+
+def test_synth_refuses_to_render_inside_a_dataset(
+    dataset: Path, capsys: pytest.CaptureFixture
+) -> None:
+    before = snapshot(dataset)
+    for out in (dataset / "chess" / "standin", dataset / "standin"):
+        _refused(["synth", "--out", str(out), "--quick"], str(out), "lies inside the dataset",
+                 capsys)  # fmt: skip
+    assert snapshot(dataset) == before

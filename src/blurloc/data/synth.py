@@ -39,7 +39,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from ..config import write_rows
-from ..files import atomic_path
+from ..files import atomic_path, dataset_folder
 from ..geometry import intrinsics
 from ..processes import watch_parent
 from .camera_model import capture
@@ -222,7 +222,8 @@ def synthesize(
     Raises
     ------
     ValueError
-        On a bad argument (naming it and its ``blurloc synth`` option), a foreign ``root``, or a
+        On a bad argument (naming it and its ``blurloc synth`` option), a foreign ``root``, a
+        ``root`` inside another dataset (:func:`~blurloc.files.dataset_folder`), or a
         render already running into ``root``; all before anything is written.
     """
     root = Path(root)
@@ -245,6 +246,9 @@ def synthesize(
     if is_foreign_dataset(root):
         raise ValueError(f"{root}: not empty and not a stand-in (no {STANDIN_MANIFEST}); "
                          "refusing to render into it")  # fmt: skip
+    if (holder := dataset_folder(root.parent)) is not None:
+        raise ValueError(f"{root}: lies inside the dataset {holder}; render the stand-in "
+                         "elsewhere")  # fmt: skip
     root.mkdir(parents=True, exist_ok=True)
     with render_lock(root):
         if not overwrite and is_up_to_date(manifest_path, manifest):  # another run just finished it
