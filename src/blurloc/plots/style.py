@@ -156,7 +156,8 @@ def show_figure(figure: plt.Figure, alt: str | None = None) -> None:
     """In a notebook, show a figure once with its alternative text and close it; elsewhere do
     nothing.
 
-    The PNG goes out with ``{"image/png": {"alt": alt}}`` as its output metadata (the convention
+    The PNG (at the style's screen resolution, ``figure.dpi``) goes out with
+    ``{"image/png": {"alt": alt}}`` as its output metadata (the convention
     nbconvert and notebook renderers read) and the alternative text as its plain-text form; the
     figure is then closed, so that the inline backend does not show it a second time.
 
@@ -173,8 +174,8 @@ def show_figure(figure: plt.Figure, alt: str | None = None) -> None:
 
     alt = alt if alt is not None else describe_figure(figure)
     buffer = io.BytesIO()
-    with figure_style():
-        figure.savefig(buffer, format="png")
+    with figure_style():  # on screen at the figures' own resolution, not the files' 150 dpi
+        figure.savefig(buffer, format="png", dpi=STYLE["figure.dpi"])
     png = base64.b64encode(buffer.getvalue()).decode("ascii")
     display({"image/png": png, "text/plain": alt}, raw=True, metadata={"image/png": {"alt": alt}})
     plt.close(figure)
