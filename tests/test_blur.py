@@ -162,7 +162,8 @@ def test_length_model_fits_a_smooth_rule_and_round_trips(tmp_path) -> None:
     model = fit_length_model(features[:300], extents[:300], steps=500)
     held_out = np.abs(model.predict(features[300:]) - extents[300:])
     assert np.median(held_out) < 0.25 * np.median(np.abs(extents[300:] - extents[:300].mean()))
-    model.save(tmp_path / "model.npz")
+    model.save(tmp_path / "model")  # numpy's rule: .npz is added
+    assert [p.name for p in tmp_path.iterdir()] == ["model.npz"]  # written whole, no leftovers
     np.testing.assert_array_equal(
         LengthModel.load(tmp_path / "model.npz").predict(features), model.predict(features)
     )

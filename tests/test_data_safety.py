@@ -23,6 +23,7 @@ import blurloc.cli
 import blurloc.files
 import blurloc.train.pose
 from blurloc.cli import main
+from blurloc.experiments.video import write_deblurred_root
 from blurloc.image_headers import MAX_PIXELS_VARIABLE
 from blurloc.models.pose import ResNetEncoder, load_encoder_weights
 from blurloc.trajectory import write_tum
@@ -123,6 +124,20 @@ def test_deblurring_never_writes_over_another_sequence_or_into_the_dataset(
     for argv, named in cases:
         _refused(argv, named, "", capsys)
     assert snapshot(dataset) == before and not (dataset / "deblurred").exists()
+
+
+def test_a_deblurred_copy_of_a_root_is_written_whole_and_never_inside_it(
+    dataset: Path, tmp_path: Path
+) -> None:
+    before = snapshot(dataset)
+    with pytest.raises(ValueError, match="inside the input folder"):
+        write_deblurred_root(dataset, dataset / "deblurred", lambda frames: 255 - frames)
+    copy = write_deblurred_root(dataset, tmp_path / "copy", lambda frames: 255 - frames)
+    assert snapshot(dataset) == before
+    carried = sorted(name for name in before if not name.endswith(".depth.png"))
+    assert sorted(snapshot(copy)) == carried  # colour, sharp, pose, splits; no temporary files
+    frame = "chess/seq-02/frame-000001.color.png"
+    assert np.array_equal(cv2.imread(str(copy / frame)), 255 - cv2.imread(str(dataset / frame)))
 
 
 def test_trainers_refuse_an_out_folder_inside_a_dataset(

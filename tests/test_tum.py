@@ -92,6 +92,7 @@ def test_a_real_recording_converts_to_a_readable_scene(tmp_path):
                  ".pose.txt")) for row in posed_frame_table()[:12]]  # fmt: skip
     converted = np.concatenate([s.poses() for s in sorted(train + test, key=lambda s: s.folder)])
     assert np.allclose(converted, committed, atol=1e-8)
+    assert not list((tmp_path / "root").rglob(".*")), "a temporary file of a writer is left over"
     with pytest.raises(ValueError, match="exists"):
         convert_tum(source, tmp_path / "root", "rpy")
 

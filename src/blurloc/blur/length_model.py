@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..files import atomic_path
 from .features import BlurFeatures
 
 #: Length model shipped with the package: :func:`fit_length_model` on the training splits of
@@ -82,14 +83,18 @@ class LengthModel:
         Parameters
         ----------
         path : str or os.PathLike
-            The file to write (``numpy.savez`` adds ``.npz`` when missing).
+            The file to write, whole (write, then rename); ``.npz`` is added when missing.
         """
         arrays = {"mean": self.mean, "spread": self.spread}
         for member, layers in enumerate(self.members):
             for number, (weight, bias) in enumerate(layers):
                 arrays[f"member{member}_weight{number}"] = weight
                 arrays[f"member{member}_bias{number}"] = bias
-        np.savez(path, **arrays)
+        path = Path(path)
+        if path.suffix != ".npz":
+            path = path.with_name(path.name + ".npz")
+        with atomic_path(path) as temporary, temporary.open("wb") as handle:
+            np.savez(handle, **arrays)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> LengthModel:

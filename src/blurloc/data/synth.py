@@ -132,13 +132,9 @@ def render_sequence(
             scene, trajectory, frame / config.fps, config, camera
         )
         color, sharp = capture(blurred, sharp, config, noise_rng)
-        stem = folder / f"frame-{frame:06d}"
-        cv2.imwrite(f"{stem}.color.png", color[..., ::-1])
-        cv2.imwrite(f"{stem}.sharp.png", sharp[..., ::-1])
         depth_mm = np.clip(np.round(depth * 1000.0), 0, 65535).astype(np.uint16)
-        cv2.imwrite(f"{stem}.depth.png", depth_mm)
         pose = trajectory.poses([frame / config.fps])[0]
-        np.savetxt(f"{stem}.pose.txt", pose, fmt="%.9e", delimiter="\t")
+        _write_frame_files(folder / f"frame-{frame:06d}", color, sharp, depth_mm, pose)
         rows.append(
             {
                 "frame": frame,
@@ -262,6 +258,18 @@ def synthesize(
     return root
 
 
+def _write_frame_files(
+    stem: Path, color: np.ndarray, sharp: np.ndarray, depth_mm: np.ndarray, pose: np.ndarray
+) -> None:
+    """Write one frame's colour, sharp and depth images and pose, each whole (then renamed)."""
+    images = {"color": color[..., ::-1], "sharp": sharp[..., ::-1], "depth": depth_mm}
+    for kind, pixels in images.items():
+        with atomic_path(f"{stem}.{kind}.png") as temporary:
+            cv2.imwrite(str(temporary), pixels)
+    with atomic_path(f"{stem}.pose.txt") as temporary:
+        np.savetxt(temporary, pose, fmt="%.9e", delimiter="\t")
+
+
 def _render(
     root: Path,
     scenes: list[str],
@@ -276,7 +284,8 @@ def _render(
         train, test = split_sequences(scene, config)
         (root / scene).mkdir(parents=True, exist_ok=True)
         for name, numbers in (("TrainSplit.txt", train), ("TestSplit.txt", test)):
-            (root / scene / name).write_text("".join(f"sequence{n}\n" for n in numbers))
+            with atomic_path(root / scene / name) as temporary:
+                temporary.write_text("".join(f"sequence{n}\n" for n in numbers))
         jobs += [(root, scene, n, config, seed) for n in sorted(train + test)]
     jobs.sort(key=lambda job: -config.frames_for(job[1]))  # long jobs first: better balance
     total = sum(config.frames_for(job[1]) for job in jobs)

@@ -21,7 +21,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation, Slerp
 
 from ..errors import DataError
-from ..files import check_output_not_input, decode_image
+from ..files import atomic_path, check_output_not_input, decode_image
 
 #: Columns of the ``frames.csv`` that :func:`convert_tum` writes beside the sequences.
 FRAME_COLUMNS = ("frame", "sequence", "stamp", "source")
@@ -121,8 +121,17 @@ def pose_at(stamps: np.ndarray, rows: np.ndarray, stamp: float) -> np.ndarray:
 
 
 def write_pose(path: str | os.PathLike, pose: np.ndarray) -> None:
-    """Write a 4x4 pose as the 7-Scenes ``frame-XXXXXX.pose.txt`` (9 decimals)."""
-    np.savetxt(path, pose, fmt="%.9f")
+    """Write a 4x4 pose as the 7-Scenes ``frame-XXXXXX.pose.txt`` (9 decimals), atomically.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The pose file to write.
+    pose : numpy.ndarray
+        (4, 4) camera-to-world transform.
+    """
+    with atomic_path(path) as temporary:
+        np.savetxt(temporary, pose, fmt="%.9f")
 
 
 def split_sequences(count: int, sequences: int, test_every: int) -> list[tuple[int, bool]]:
@@ -244,14 +253,15 @@ def convert_tum(
         write_pose(sequence / f"{frame}.pose.txt", pose_at(stamps, rows, stamp))
         table.append([f"seq-{number:02d}/{frame}.color.png", f"seq-{number:02d}", f"{stamp:.6f}",
                       name])  # fmt: skip
-    with (folder / "frames.csv").open("w", newline="") as handle:
+    with atomic_path(folder / "frames.csv") as temporary, temporary.open("w", newline="") as handle:
         writer = csv.writer(handle, lineterminator="\n")
         writer.writerow(FRAME_COLUMNS)
         writer.writerows(table)
     held_out = sorted({number for number, test in plan if test})
     kept = sorted({number for number, test in plan if not test})
-    (folder / "TrainSplit.txt").write_text("".join(f"sequence{k}\n" for k in kept))
-    (folder / "TestSplit.txt").write_text("".join(f"sequence{k}\n" for k in held_out))
+    for name, numbers in (("TrainSplit.txt", kept), ("TestSplit.txt", held_out)):
+        with atomic_path(folder / name) as temporary:
+            temporary.write_text("".join(f"sequence{k}\n" for k in numbers))
     return folder
 
 
@@ -259,9 +269,12 @@ def _write_frame(path: Path, target: Path, width: int | None) -> None:
     """Copy a colour frame, or write it shrunk to ``width`` px as PNG."""
     if not path.is_file():
         raise DataError(f"{path}: colour frame named in rgb.txt is missing")
-    if width is None:
-        shutil.copyfile(path, target)
-        return
-    image = decode_image(path, cv2.IMREAD_COLOR)
-    height = max(1, round(image.shape[0] * width / image.shape[1]))
-    cv2.imwrite(str(target), cv2.resize(image, (width, height), interpolation=cv2.INTER_AREA))
+    with atomic_path(target) as temporary:
+        if width is None:
+            shutil.copyfile(path, temporary)
+            return
+        image = decode_image(path, cv2.IMREAD_COLOR)
+        height = max(1, round(image.shape[0] * width / image.shape[1]))
+        small = cv2.resize(image, (width, height), interpolation=cv2.INTER_AREA)
+        if not cv2.imwrite(str(temporary), small):
+            raise DataError(f"{target}: cannot write this frame")

@@ -9,13 +9,12 @@ import shutil
 from collections.abc import Callable
 from pathlib import Path
 
-import cv2
 import numpy as np
 from tqdm.auto import tqdm
 
 from ..data.sevenscenes import SPLIT_FILES, SequenceFrames, list_scenes, load_split
 from ..deconv import deblur_blind
-from ..files import link_or_copy
+from ..files import atomic_path, check_output_not_input, link_or_copy, write_image_file
 from ..images import as_float_image
 from ..metrics import psnr, ssim
 from ..train.loop import parallel_map
@@ -96,7 +95,9 @@ def write_deblurred_root(
     """Copy a 7-Scenes-layout root with every colour frame replaced by ``method``'s output.
 
     Poses, split files and the stand-in's sharp frames are carried over, so the pose stage
-    reads the copy like the original. One sequence is held in memory at a time per process.
+    reads the copy like the original. Every file is written whole (write, then rename), so an
+    interrupted copy holds no half-written frame. One sequence is held in memory at a time per
+    process.
 
     Parameters
     ----------
@@ -122,9 +123,11 @@ def write_deblurred_root(
     Raises
     ------
     ValueError
-        If ``workers`` is not positive.
+        If ``workers`` is not positive, or ``out_root`` is ``root`` or lies inside it (checked
+        before anything is written).
     """
     root, out_root = Path(root), Path(out_root)
+    check_output_not_input(out_root, root)
     jobs = [(sequence, out_root / scene / sequence.folder.name, method)
             for scene in list_scenes(root) for split in SPLIT_FILES
             for sequence in load_split(root, scene, split)]  # fmt: skip
@@ -132,7 +135,8 @@ def write_deblurred_root(
     for scene in list_scenes(root):
         (out_root / scene).mkdir(parents=True, exist_ok=True)
         for name in SPLIT_FILES.values():
-            shutil.copyfile(root / scene / name, out_root / scene / name)
+            with atomic_path(out_root / scene / name) as temporary:
+                shutil.copyfile(root / scene / name, temporary)
     for _ in tqdm(done, total=len(jobs), disable=not progress, desc="write deblurred"):
         pass
     return out_root
@@ -146,7 +150,7 @@ def _write_deblurred_sequence(
     folder.mkdir(parents=True, exist_ok=True)
     restored = method(sequence.images("color"))
     for index, frame in enumerate(sequence.frame_ids):
-        cv2.imwrite(str(folder / sequence.path(frame, "color").name), restored[index][..., ::-1])
+        write_image_file(folder / sequence.path(frame, "color").name, restored[index])
         for kind in ("pose", "sharp"):
             source = sequence.path(frame, kind)
             if source.is_file():
