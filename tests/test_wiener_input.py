@@ -11,7 +11,7 @@ import skimage.data
 import torch
 
 from blurloc.blur import blur_image, motion_kernel
-from blurloc.inference import DEFAULT_CHECKPOINT, load_video_deblur, to_tensor, to_uint8
+from blurloc.inference import DEFAULT_CHECKPOINT, frames_from_tensor, load_video_deblur, to_tensor
 from blurloc.metrics import psnr
 from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, wiener_guides
 from blurloc.train.config import VideoTrainConfig
@@ -29,7 +29,7 @@ def line_blurred_video(length_px: float = 9.0) -> tuple[np.ndarray, np.ndarray]:
 
 def test_wiener_guides_undo_a_line_blur_of_a_photograph() -> None:
     blurred, sharp = line_blurred_video()
-    guides = to_uint8(wiener_guides(to_tensor(blurred)[None])[0])
+    guides = frames_from_tensor(wiener_guides(to_tensor(blurred)[None])[0])
     assert guides.shape == blurred.shape
     assert psnr(sharp[0], guides[0], 255.0) > psnr(sharp[0], blurred[0], 255.0) + 1.0
 

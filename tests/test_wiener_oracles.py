@@ -25,8 +25,8 @@ from blurloc.experiments.wiener_oracles import (
     exposure_kernel,
     fit_nsr_rule,
     oracle_rows,
+    oracle_scene_table,
     oracle_summary,
-    per_scene_table,
     random_kernel,
     skimage_comparison,
     standin_settings,
@@ -103,7 +103,7 @@ def test_oracle_rows_and_tables(quick_root: Path) -> None:
     summary = oracle_summary(rows)
     assert [r["variant"] for r in summary] == ["blurred", *VARIANTS]
     assert summary[0]["gain_db"] == 0.0
-    table = per_scene_table(rows)
+    table = oracle_scene_table(rows)
     assert [r["scene"] for r in table] == ["chess", "stairs", "mean"]
     assert table[0]["paper_psnr_db"] == pytest.approx(29.76)
     assert table[-1]["blurred_psnr_db"] == pytest.approx(

@@ -95,8 +95,9 @@ def _convert_tum(args: argparse.Namespace) -> int:
 
 
 def _run_notebooks(args: argparse.Namespace) -> int:
+    from .errors import NotebookError
     from .publish import publish_notebooks
-    from .runner import NotebookError, notebook_names, run_notebooks
+    from .runner import notebook_names, run_notebooks
 
     overrides = {"data_root": args.data_root, "results_dir": args.results_dir,
                  "figures_dir": args.figures_dir, "device": args.device}  # fmt: skip

@@ -9,3 +9,7 @@ class DataError(ValueError):
 class CheckpointError(ValueError):
     """A checkpoint that is missing, damaged, unsafe to load or of another kind; the message
     names the file."""
+
+
+class NotebookError(RuntimeError):
+    """A notebook failed; the message names it, the failing cell and the exception."""

@@ -223,7 +223,7 @@ def to_tensor(frames: np.ndarray) -> torch.Tensor:
     return tensor.movedim(-1, -3)
 
 
-def to_uint8(tensor: torch.Tensor) -> np.ndarray:
+def frames_from_tensor(tensor: torch.Tensor) -> np.ndarray:
     """Float tensor (..., 3, H, W) in [-1, 1] as uint8 frames (..., H, W, 3) (rounded, clipped).
 
     Parameters
@@ -278,10 +278,10 @@ def restore_frames(
             if len(pending) == size:
                 output, state = model(to_tensor(np.stack(pending))[None].to(device), state)
                 pending = []
-                yield from to_uint8(output[0])
+                yield from frames_from_tensor(output[0])
         if pending:
             output, _ = model(to_tensor(np.stack(pending))[None].to(device), state)
-            yield from to_uint8(output[0])
+            yield from frames_from_tensor(output[0])
 
 
 def restore_sequence(

@@ -16,6 +16,7 @@ from .config import (
     project_root,
     write_rows,
 )
+from .errors import NotebookError
 
 #: Figure and table files (under ``figures_dir``) that each notebook promises to write.
 EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
@@ -144,10 +145,6 @@ EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
         "pose_dose_response.pdf",
     ),
 }
-
-
-class NotebookError(RuntimeError):
-    """A notebook failed; the message names it, the failing cell and the exception."""
 
 
 def notebook_names() -> list[str]:

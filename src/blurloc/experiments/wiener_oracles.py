@@ -423,7 +423,7 @@ def gain_by_extent(
             float(gain[~large].mean()) if (~large).any() else float("nan"))  # fmt: skip
 
 
-def per_scene_table(rows: list[dict]) -> list[dict]:
+def oracle_scene_table(rows: list[dict]) -> list[dict]:
     """Per scene (and their mean): PSNR and SSIM of the blurred input, blind Wiener and the
     oracle-kernel Wiener (true path, linear light, best NSR), beside the paper's Fig. 6-7
     values (labelled ``paper_``; printed numbers, not measured here)."""

@@ -23,7 +23,7 @@ from tqdm.auto import tqdm
 from ..checkpoints import CHECKPOINT_FORMATS, save_checkpoint
 from ..config import seed_everything
 from ..data.sevenscenes import SequenceFrames, list_scenes, load_split, read_image
-from ..inference import restore_sequence, to_tensor, to_uint8
+from ..inference import frames_from_tensor, restore_sequence, to_tensor
 from ..metrics import mean_frame_psnr
 from ..models.video_deblur import VideoDeblurNet, wiener_guides
 from .config import VideoTrainConfig
@@ -165,7 +165,7 @@ def with_wiener_guides(videos: list[Video]) -> list[tuple[np.ndarray, np.ndarray
     list of (blurred, sharp, guides)
         ``guides`` uint8 (T, H, W, 3), the Wiener copies of ``blurred``.
     """
-    return [(blurred, sharp, to_uint8(wiener_guides(to_tensor(blurred)[None])[0]))
+    return [(blurred, sharp, frames_from_tensor(wiener_guides(to_tensor(blurred)[None])[0]))
             for blurred, sharp in videos]  # fmt: skip
 
 
