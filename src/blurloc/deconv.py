@@ -122,7 +122,11 @@ def estimate_nsr(image: np.ndarray) -> float:
     ----------
     Immerkær, "Fast noise variance estimation", CVIU 64(2), 1996. The paper's eq. 4.
     """
-    sigma = estimate_noise_sigma(image)
+    return _nsr_from_noise(estimate_noise_sigma(image))
+
+
+def _nsr_from_noise(sigma: float) -> float:
+    """The NSR of :func:`estimate_nsr` for a noise sigma already measured."""
     return float(max(NSR_COEFFICIENT * sigma**NSR_EXPONENT, 1e-6))
 
 
@@ -401,20 +405,26 @@ def blind_kernel(
     ----------
     The paper's Section III.A.1 (estimate the blur, then eq. 4).
     """
-    image = check_image(image)
-    features = blur_features(image)
+    return _blind_estimate(image, threshold, gated)[0]
+
+
+def _blind_estimate(
+    image: np.ndarray, threshold: float, gated: bool
+) -> tuple[np.ndarray | None, float | None]:
+    """:func:`blind_kernel`'s kernel and the noise sigma it measured on the way (None if not)."""
+    features = blur_features(image)  # checks the image
     length = analysis_length(features)
     if length <= threshold:
-        return None
+        return None, None
     if not gated:
-        return estimate_motion_blur(image, features=features).kernel()
+        return estimate_motion_blur(image, features=features).kernel(), None
     noise_sigma = estimate_noise_sigma(image)
     if not _trusted_frame(features, noise_sigma, length):  # no need to refine the estimate
-        return None
+        return None, noise_sigma
     estimate = estimate_motion_blur(image, features=features)
     if not blind_restoration_expected_to_gain(estimate, features, noise_sigma, length):
-        return None
-    return estimate.kernel()
+        return None, noise_sigma
+    return estimate.kernel(), noise_sigma
 
 
 def deblur_blind(
@@ -460,5 +470,9 @@ def deblur_blind(
     Wiener 1949; Gonzalez and Woods 2018 (see :func:`wiener_deconvolve`). The paper's Section
     III.A.1 and eq. 4.
     """
-    kernel = blind_kernel(image, threshold, gated)
-    return image.copy() if kernel is None else wiener_deconvolve(image, kernel, nsr)
+    kernel, noise_sigma = _blind_estimate(image, threshold, gated)
+    if kernel is None:
+        return image.copy()
+    if nsr is None and noise_sigma is not None:  # measured already: do not measure it twice
+        nsr = _nsr_from_noise(noise_sigma)
+    return wiener_deconvolve(image, kernel, nsr)

@@ -14,7 +14,6 @@ import cv2
 import numpy as np
 import scipy.fft
 
-from ..images import check_image
 from .spectrum import _hann, estimate_noise_sigma, to_gray
 
 #: Smallest image side (px) on which blur can be detected or estimated.
@@ -53,7 +52,7 @@ def _polar_bins(size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def _analysis_copy(image: np.ndarray) -> tuple[np.ndarray, float]:
     """Gray float32 copy at the analysis scale and the factor (>= 1) from its pixels to the
     image's."""
-    gray = to_gray(check_image(image)).astype(np.float32, copy=False)
+    gray = to_gray(image).astype(np.float32, copy=False)  # to_gray checks the image
     short = min(gray.shape)
     if short < MIN_ANALYSIS_SIDE:
         raise ValueError(f"image too small to estimate blur: {gray.shape} "

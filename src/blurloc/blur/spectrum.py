@@ -84,7 +84,7 @@ def log_power_spectrum(image: np.ndarray, window: int = 256) -> np.ndarray:
     Welch, "The use of fast Fourier transform for the estimation of power spectra", IEEE Trans.
     Audio Electroacoust. 15(2), 1967. The paper's eq. 2.
     """
-    gray = to_gray(check_image(image))
+    gray = to_gray(image)  # checks the image
     size = min(window, *gray.shape)
     size -= size % 2
     if size < 8:
