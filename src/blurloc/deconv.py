@@ -165,6 +165,7 @@ def ccs_pack(spectrum: np.ndarray) -> np.ndarray:
     References
     ----------
     OpenCV documentation of ``cv::dft`` (CCS-packed output of real transforms).
+    The paper's eq. 4 (computed with OpenCV's real DFT).
     """
     rows, half = spectrum.shape
     if rows % 2 or half < 2:
@@ -359,6 +360,7 @@ def blind_restoration_expected_to_gain(
     Boracchi and Foi, "Modeling the performance of image restoration from motion blur", IEEE
     Trans. Image Process. 21(8), 2012 (what restoration gains depends on the blur and the
     noise). Immerkær, "Fast noise variance estimation", CVIU 1996.
+    Not in the paper, which applies eq. 4 to every frame (Section III.A.1).
     """
     length = analysis_length(features) if length is None else length
     return (
@@ -378,7 +380,13 @@ def _trusted_frame(features: BlurFeatures, noise_sigma: float, length: float | N
 def blind_kernel(
     image: np.ndarray, threshold: float = BLUR_THRESHOLD, gated: bool = False
 ) -> np.ndarray | None:
-    """The kernel that blind deblurring uses for an image, or None when no blur is detected.
+    r"""The kernel that blind deblurring uses for an image, or None when no blur is detected.
+
+    .. math::
+
+        \hat{c} = \begin{cases} c_{\hat{L}, \hat{\theta}} & \hat{L}_{\text{coarse}} > t
+        \text{ (and, with } \texttt{gated}\text{, a gain is expected)} \\
+        \text{None} & \text{otherwise} \end{cases}
 
     The image is judged blurred when its coarse length estimate (the detector's score,
     :func:`~blurloc.blur.blur_score`) exceeds ``threshold``; then the linear kernel of

@@ -156,6 +156,7 @@ def orthonormality_error(rotation: np.ndarray) -> float:
     ----------
     Huynh, "Metrics for 3D rotations: comparison and analysis", J. Math. Imaging Vis. 35(2),
     2009.
+    The paper's eq. 13 (which assumes :math:`R` is a rotation).
     """
     rotation = np.asarray(rotation, float)
     return float(np.abs(rotation.T @ rotation - np.eye(3)).max())
@@ -255,6 +256,7 @@ def rotation_to_quaternion(rotation: np.ndarray) -> np.ndarray:
     ----------
     Shoemake, "Animating rotation with quaternion curves", SIGGRAPH 1985.
     SciPy's ``Rotation.from_matrix``.
+    The paper's eq. 14 (orientation as a quaternion :math:`R`).
     """
     return to_quaternions(Rotation.from_matrix(np.asarray(rotation, float)))
 
@@ -284,6 +286,7 @@ def quaternion_to_rotation(quaternion: np.ndarray) -> np.ndarray:
     ----------
     Shoemake, "Animating rotation with quaternion curves", SIGGRAPH 1985.
     SciPy's ``Rotation.from_quat``.
+    The paper's eq. 14 (orientation as a quaternion :math:`R`).
     """
     return from_quaternions(quaternion).as_matrix()
 
@@ -312,6 +315,7 @@ def rotation_defect(rotation: np.ndarray, tolerance: float = 1e-2) -> str | None
     ----------
     Huynh, "Metrics for 3D rotations: comparison and analysis", J. Math. Imaging Vis. 35(2),
     2009.
+    The paper's eq. 13 (which assumes :math:`R` is a rotation).
     """
     error = orthonormality_error(rotation)
     if error > tolerance:

@@ -38,6 +38,7 @@ def to_quaternions(rotations: Rotation) -> np.ndarray:
     ----------
     Shoemake, "Animating rotation with quaternion curves", SIGGRAPH 1985.
     SciPy's ``Rotation.as_quat(canonical=True, scalar_first=True)``.
+    The paper's eq. 14 (orientation as a quaternion :math:`R`).
     """
     return rotations.as_quat(canonical=True, scalar_first=True)
 
@@ -67,6 +68,7 @@ def from_quaternions(quaternions: np.ndarray) -> Rotation:
     ----------
     Shoemake, "Animating rotation with quaternion curves", SIGGRAPH 1985.
     SciPy's ``Rotation.from_quat(scalar_first=True)``.
+    The paper's eq. 14 (orientation as a quaternion :math:`R`).
     """
     q = np.asarray(quaternions, float)
     if q.shape[-1] != 4 or not np.all(np.isfinite(q)) or np.any(np.linalg.norm(q, axis=-1) < 1e-12):

@@ -52,6 +52,8 @@ def calibrate_blur_threshold(
     ----------
     Brodersen, Ong, Stephan and Buhmann, "The balanced accuracy and its posterior distribution",
     ICPR 2010.
+    Not in the paper (it deblurs every frame); the detector stands before eq. 4 in Section
+    III.A.1.
     """
     scores, blurred = np.asarray(scores, float), np.asarray(blurred, bool)
     if blurred.all() or not blurred.any():
@@ -100,6 +102,8 @@ def detection_rates(
     ----------
     Brodersen, Ong, Stephan and Buhmann, "The balanced accuracy and its posterior distribution",
     ICPR 2010.
+    Not in the paper (it deblurs every frame); the detector stands before eq. 4 in Section
+    III.A.1.
     """
     scores, blurred = np.asarray(scores, float), np.asarray(blurred, bool)
     flagged = float((scores[blurred] > threshold).mean())

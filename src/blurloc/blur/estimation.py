@@ -29,13 +29,24 @@ class BlurEstimate:
     fit: float
 
     def kernel(self) -> np.ndarray:
-        """The linear motion kernel of this estimate (:func:`~blurloc.blur.motion_kernel`, at least
+        r"""The linear motion kernel of this estimate (:func:`~blurloc.blur.motion_kernel`, at least
         1 px long).
+
+        .. math::
+
+            c(x, y) = \frac{1}{L} \int_{-L/2}^{L/2}
+            \delta(x - t \cos\theta,\; y + t \sin\theta)\, dt
+
+        with :math:`L` = ``max(length_px, 1)`` and :math:`\theta` = ``angle_deg``.
 
         Returns
         -------
         numpy.ndarray
             The PSF c of eq. 1 for ``max(length_px, 1)`` px at ``angle_deg``.
+
+        References
+        ----------
+        See :func:`~blurloc.blur.motion_kernel`. The paper's eq. 1.
         """
         return motion_kernel(max(self.length_px, 1.0), self.angle_deg)
 

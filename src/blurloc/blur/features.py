@@ -103,6 +103,7 @@ def edge_widths(gray: np.ndarray, sigma: float) -> np.ndarray:
     ----------
     Marziliano, Dufaux, Winkler and Ebrahimi, "A no-reference perceptual blur metric", ICIP
     2002 (blur as the width of the image's edges).
+    The paper's Section III.A.1 (features for the blur length of eq. 1's c).
     """
     gx = cv2.Sobel(gray, cv2.CV_32F, 1, 0) / 8
     gy = cv2.Sobel(gray, cv2.CV_32F, 0, 1) / 8

@@ -179,6 +179,8 @@ def shake_path(extent_px: float, rng: np.random.Generator, steps: int = 500) -> 
     ----------
     Boracchi and Foi, "Modeling the performance of image restoration from motion blur", IEEE
     Trans. Image Process. 21(8), 2012 (their random trajectory generator).
+    Not in the paper, whose blur (eq. 1) is a linear motion; used to blur photographs with
+    camera-shake kernels (Section III.A.1's c, of any shape).
     """
     if not np.isfinite(extent_px) or extent_px <= 0:
         raise ValueError(f"extent_px must be > 0, got {extent_px}")

@@ -72,6 +72,8 @@ class LengthModel:
         approximators", Neural Networks 2(5), 1989. Lakshminarayanan, Pritzel and Blundell,
         "Simple and scalable predictive uncertainty estimation using deep ensembles", NeurIPS
         2017 (averaging networks trained from different initial weights).
+        The paper's Section III.A.1 (the blur length of eq. 1's c, which it does not say how to
+        estimate).
         """
         inputs = (np.atleast_2d(values) - self.mean) / self.spread
         return np.mean([_perceptron(layers, inputs) for layers in self.members], axis=0)
@@ -124,12 +126,23 @@ class LengthModel:
 
 @functools.cache
 def default_length_model() -> LengthModel:
-    """The shipped length model (LENGTH_MODEL_PATH), read once per process.
+    r"""The shipped length model (LENGTH_MODEL_PATH), read once per process.
+
+    .. math::
+
+        \hat{L}(v) = \frac{1}{M} \sum_{m=1}^{M} f_m\!\left(\frac{v - \mu}{s}\right)
+
+    (:meth:`LengthModel.predict`), with the weights, :math:`\mu` and :math:`s` read from the file.
 
     Returns
     -------
     LengthModel
         The model that :func:`fit_length_model` fitted by the recipe of LENGTH_MODEL_PATH.
+
+    References
+    ----------
+    See :func:`fit_length_model`. The paper's Section III.A.1 (the blur length of eq. 1's c,
+    which it does not say how to estimate).
     """
     return LengthModel.load(LENGTH_MODEL_PATH)
 
@@ -225,6 +238,8 @@ def fit_length_model(
     "Simple and scalable predictive uncertainty estimation using deep ensembles", NeurIPS
     2017 (averaging networks trained from different initial weights).
     Kingma and Ba, "Adam: a method for stochastic optimization", ICLR 2015.
+    The paper's Section III.A.1 (the blur length of eq. 1's c, which it does not say how to
+    estimate).
     """
     features = np.asarray(features, np.float64)
     extents = np.asarray(extents_px, np.float64)
@@ -270,6 +285,8 @@ def analysis_length(features: BlurFeatures, model: LengthModel | None = None) ->
     approximators", Neural Networks 2(5), 1989. Lakshminarayanan, Pritzel and Blundell,
     "Simple and scalable predictive uncertainty estimation using deep ensembles", NeurIPS
     2017 (averaging networks trained from different initial weights).
+    The paper's Section III.A.1 (the blur length of eq. 1's c, which it does not say how to
+    estimate).
     """
     model = model or default_length_model()
     return max(float(model.predict(features.values)[0]), 0.0)
@@ -300,5 +317,7 @@ def length_from_features(features: BlurFeatures, model: LengthModel | None = Non
     References
     ----------
     See :func:`analysis_length`.
+    The paper's Section III.A.1 (the blur length of eq. 1's c, which it does not say how to
+    estimate).
     """
     return analysis_length(features, model) * features.scale

@@ -92,6 +92,7 @@ class BasicBlock(nn.Module):
         References
         ----------
         He, Zhang, Ren and Sun, "Deep residual learning for image recognition", CVPR 2016.
+        The paper's Section III.B (the CNN that extracts each frame's features).
         """
         shortcut = x if self.downsample is None else self.downsample(x)
         out = F.relu(self.bn1(self.conv1(x)))
@@ -137,6 +138,7 @@ class ResNetEncoder(nn.Module):
         References
         ----------
         He, Zhang, Ren and Sun, "Deep residual learning for image recognition", CVPR 2016.
+        The paper's Section III.B (the CNN that extracts each frame's features).
         """
         x = self.maxpool(F.relu(self.bn1(self.conv1(x))))
         x = self.layer4(self.layer3(self.layer2(self.layer1(x))))
@@ -338,6 +340,7 @@ class LearnedWeighting(nn.Module):
         ----------
         Kendall and Cipolla, "Geometric loss functions for camera pose regression with deep
         learning", CVPR 2017. The paper's eq. 14 with its β learnt instead of fixed.
+        The paper's Section III.B and eq. 14.
         """
         position_error = (position - true_position).norm(dim=-1).mean()
         rotation_error = (F.normalize(quaternion, dim=-1) - true_quaternion).norm(dim=-1).mean()

@@ -132,6 +132,7 @@ class ResidualBlock(nn.Module):
         References
         ----------
         He, Zhang, Ren and Sun, "Deep residual learning for image recognition", CVPR 2016.
+        The paper's eq. 8-11 (the blocks of the recurrent cell).
         """
         return x + self.conv2(F.relu(self.conv1(x)))
 
@@ -164,6 +165,7 @@ def frame_translation(previous: torch.Tensor, current: torch.Tensor) -> torch.Te
     ----------
     Kuglin and Hines, "The phase correlation image alignment method", IEEE Conf. Cybernetics and
     Society 1975.
+    The paper's Section III.A.2 (aligning the previous frame's state before eq. 8).
     """
     if previous.shape != current.shape or previous.ndim != 4:
         raise ValueError(f"frames must be two (N, C, H, W) tensors of one shape, got "
@@ -214,6 +216,7 @@ def shift_features(features: torch.Tensor, shift_px: torch.Tensor) -> torch.Tens
     ----------
     Jaderberg, Simonyan, Zisserman and Kavukcuoglu, "Spatial transformer networks", NeurIPS
     2015 (differentiable bilinear resampling).
+    The paper's Section III.A.2 (aligning the previous frame's state before eq. 8).
     """
     n, _, height, width = features.shape
     theta = features.new_zeros(n, 2, 3)
