@@ -5,10 +5,12 @@
 
 Makes ``--frames`` 640x480 RGB PNG frames from scikit-image's bundled photographs, each blurred
 by a known line kernel (5-25 px, a different angle per frame) with noise σ = 2/255, in a
-temporary folder (or, with ``--folder``, takes the ``*.color.png`` frames of DIR, e.g. a
-7-Scenes or stand-in sequence; scikit-image is then given a 9 px horizontal line, for its
-time only). Then times, on the same frames and in one run (wall clock from the first read
-to the last written file, divided by the number of frames):
+temporary folder; beside them, in the same run, real camera frames: the 640x480 TUM RGB-D
+Kinect frames of the development set (:mod:`blurloc.data.real`, part ``posed``) when it is
+present, or the ``*.color.png`` frames of ``--folder`` DIR (e.g. a 7-Scenes sequence). For real
+frames the true kernel is unknown: the "true kernel" rows then use a 9 px horizontal line, for
+their time only. Then times, on each set of frames (wall clock from the first read to the last
+written file, divided by the number of frames):
 
 - the package's folder deblurring (:func:`blurloc.batch_deblur.deblur_files`) blind, with a
   process pool of ``--workers`` (default: every available core; pool start included), and in
@@ -41,6 +43,7 @@ import numpy as np
 
 from blurloc.batch_deblur import available_cores, deblur_file, deblur_files
 from blurloc.blur import blur_image, motion_kernel
+from blurloc.data import real
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 
 PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "immunohistochemistry", "hubble_deep_field")
@@ -84,72 +87,89 @@ def ms_per_frame(run: Callable[[], int]) -> tuple[float, float]:
             (time.process_time() - cpu) / frames * 1000.0)  # fmt: skip
 
 
+def time_frames(
+    frames: list[tuple[Path, float, float]], target: Path, workers: int
+) -> tuple[list[dict], int]:
+    """Every method's ms per frame on ``frames`` (written into ``target``), and how many frames
+    blind deblurring restored."""
+    pairs = [(path, target / path.name) for path, _, _ in frames]
+    kernels = [motion_kernel(length, angle) for _, length, angle in frames]
+    runs = {
+        f"package, blind, pool of {workers}":
+            lambda: sum(1 for _ in deblur_files(pairs, workers=workers)),
+        "package, blind, 1 process":
+            lambda: sum(1 for _ in deblur_files(pairs, workers=1)),
+        "package, true kernel, 1 process":
+            lambda: sum(1 for pair, k in zip(pairs, kernels, strict=True)
+                        if deblur_file(*pair, kernel=k) is not None),
+        "scikit-image wiener, true kernel, 1 process":
+            lambda: sum(1 for pair, k in zip(pairs, kernels, strict=True)
+                        if skimage_wiener_file(*pair, k) is None),
+    }  # fmt: skip
+    rows, restored = [], 0
+    for name, run in runs.items():
+        wall, cpu = ms_per_frame(run)
+        in_pool = "pool" in name  # the workers' CPU time is not this process's
+        rows.append({"method": name, "ms_per_frame": round(wall, 1),
+                     "cpu_ms_per_frame": "" if in_pool else round(cpu, 1)})  # fmt: skip
+        if name.startswith("package, blind, pool"):  # a passed-through frame is a copy
+            restored = sum(a.read_bytes() != b.read_bytes() for a, b in pairs)
+    return rows, restored
+
+
+def real_frames(folder: Path | None, count: int) -> tuple[str, list[tuple[Path, float, float]]]:
+    """The real frames to time (``--folder``'s, else the development set's posed frames, else
+    none) and their description."""
+    if folder is None and real.files_present("posed"):
+        folder = real.posed_root() / real.POSED_SCENE / "seq-01"
+        name = "real TUM RGB-D fr1_rpy Kinect frames"
+    else:
+        name = str(folder)
+    if folder is None:
+        return "", []
+    paths = sorted(folder.glob("*.color.png"))[:count]
+    if not paths:
+        raise SystemExit(f"{folder}: no *.color.png frames")
+    return name, [(path, 9.0, 0.0) for path in paths]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=120)
-    parser.add_argument("--folder", type=Path, help="time these *.color.png frames instead")
+    parser.add_argument("--folder", type=Path, help="real *.color.png frames to time as well")
     parser.add_argument("--workers", type=int, default=available_cores())
     add_out_dir_argument(parser)
     args = parser.parse_args()
     load_before = os.getloadavg()
+    table, described = [], []
     with tempfile.TemporaryDirectory() as scratch:
-        source, target = Path(scratch, "in"), Path(scratch, "out")
+        source = Path(scratch, "in")
         source.mkdir()
-        target.mkdir()
-        if args.folder:
-            paths = sorted(args.folder.glob("*.color.png"))[: args.frames]
-            if not paths:
-                raise SystemExit(f"{args.folder}: no *.color.png frames")
-            frames = [(path, 9.0, 0.0) for path in paths]
-        else:
-            frames = make_frames(source, args.frames)
-        pairs = [(path, target / path.name) for path, _, _ in frames]
-        kernels = [motion_kernel(length, angle) for _, length, angle in frames]
-        runs = {
-            f"package, blind, pool of {args.workers}":
-                lambda: sum(1 for _ in deblur_files(pairs, workers=args.workers)),
-            "package, blind, 1 process":
-                lambda: sum(1 for _ in deblur_files(pairs, workers=1)),
-            "package, true kernel, 1 process":
-                lambda: sum(1 for pair, k in zip(pairs, kernels, strict=True)
-                            if deblur_file(*pair, kernel=k) is not None),
-            "scikit-image wiener, true kernel, 1 process":
-                lambda: sum(1 for pair, k in zip(pairs, kernels, strict=True)
-                            if skimage_wiener_file(*pair, k) is None),
-        }  # fmt: skip
-        rows = []
-        for name, run in runs.items():
-            wall, cpu = ms_per_frame(run)
-            in_pool = "pool" in name  # the workers' CPU time is not this process's
-            rows.append({"method": name, "ms_per_frame": round(wall, 1),
-                         "cpu_ms_per_frame": "" if in_pool else round(cpu, 1)})  # fmt: skip
-            if name.startswith("package, blind, pool"):  # a passed-through frame is a copy
-                restored = sum(a.read_bytes() != b.read_bytes() for a, b in pairs)
+        sets = {"line-blurred photographs": make_frames(source, args.frames)}
+        real_name, frames = real_frames(args.folder, args.frames)
+        if frames:
+            sets[real_name] = frames
+        for name, frames in sets.items():
+            target = Path(scratch, f"out-{len(described)}")
+            target.mkdir()
+            rows, restored = time_frames(frames, target, args.workers)
+            described.append(f"{name}: {len(frames)} frames, {restored} restored by blind "
+                             "deblurring")  # fmt: skip
+            table += [{"frames_from": name, **row, "frames": len(frames), "restored": restored}
+                      for row in rows]  # fmt: skip
     load_after = os.getloadavg()
-    for row in rows:
+    for row in table:
         print(
-            f"{row['method']:<46} {row['ms_per_frame']:7.1f} ms/frame (CPU "
-            f"{row['cpu_ms_per_frame'] or 'n/a'})"
+            f"{row['frames_from'][:24]:<25} {row['method']:<44} {row['ms_per_frame']:7.1f} "
+            f"ms/frame (CPU {row['cpu_ms_per_frame'] or 'n/a'})"
         )
-    source_name = args.folder or "line-blurred photographs"
-    context = (f"{len(frames)} frames ({source_name}), {restored} restored by blind deblurring, "
-               f"{available_cores()} cores available, "
+    context = (f"{'; '.join(described)}. {available_cores()} cores available, "
                f"load average {load_before[0]:.2f} before, {load_after[0]:.2f} after")  # fmt: skip
+    machine = {"cores": available_cores(), "load_before": round(load_before[0], 2),
+               "load_after": round(load_after[0], 2)}  # fmt: skip
     saved = save_benchmark_tables(
         "bench_deblur_folder",
-        {
-            "times": [
-                {
-                    **row,
-                    "frames": len(frames),
-                    "restored": restored,
-                    "cores": available_cores(),
-                    "load_before": round(load_before[0], 2),
-                    "load_after": round(load_after[0], 2),
-                }
-                for row in rows
-            ]
-        },
+        {"times": [{**row, **machine} for row in table]},
         args.out_dir,
         "Folder deblurring: ms per 640x480 RGB frame, reading and writing included",
         notes=f"{context}. Target: <= {TARGET_MS:g} ms per frame for the package's folder "
