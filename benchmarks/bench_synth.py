@@ -34,7 +34,6 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from blurloc.data.render import TEXTURE_NAMES, texture_pyramid
 from blurloc.data.scenes import SCENE_NAMES
 from blurloc.data.synth import (
     SynthConfig,
@@ -43,6 +42,7 @@ from blurloc.data.synth import (
     sequence_trajectory,
     synthesize,
 )
+from blurloc.data.textures import TEXTURE_NAMES, texture_pyramid
 from blurloc.geometry import intrinsics
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 

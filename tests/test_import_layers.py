@@ -61,7 +61,10 @@ def imported_modules(path: Path) -> set[str]:
                 target = ".".join(base + ([node.module] if node.module else []))
             else:
                 target = node.module or ""
-            found.add(target)
+            if node.module is None:  # ``from . import name``: the submodules (or the package)
+                found |= {f"{target}.{alias.name}" for alias in node.names}
+            else:
+                found.add(target)
         elif isinstance(node, ast.Import):
             found |= {alias.name for alias in node.names}
     return {target for target in found if target.split(".")[0] == "blurloc"}

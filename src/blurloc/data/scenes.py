@@ -15,7 +15,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .layout import SCENE_NAMES
-from .render import PAINTED, Light, Quad, Scene
+from .render import Light, Quad, Scene
+from .textures import PAINTED
 
 Vec = tuple[float, float, float]
 
