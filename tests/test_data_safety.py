@@ -140,6 +140,15 @@ def test_a_deblurred_copy_of_a_root_is_written_whole_and_never_inside_it(
     assert np.array_equal(cv2.imread(str(copy / frame)), 255 - cv2.imread(str(dataset / frame)))
 
 
+def test_written_images_keep_their_samples_where_the_suffix_allows(tmp_path: Path) -> None:
+    depth = _frame(5, (24, 32), np.uint16)
+    assert blurloc.files.write_image_file(tmp_path / "depth.png", depth) == []
+    assert np.array_equal(cv2.imread(str(tmp_path / "depth.png"), cv2.IMREAD_UNCHANGED), depth)
+    assert blurloc.files.write_image_file(tmp_path / "depth.jpg", depth) == ["16-bit depth"]
+    stored = cv2.imread(str(tmp_path / "depth.jpg"), cv2.IMREAD_GRAYSCALE).astype(float)
+    assert np.abs(stored - depth / 257.0).mean() < 3.0  # reduced to 8-bit, then JPEG-coded
+
+
 def test_trainers_refuse_an_out_folder_inside_a_dataset(
     dataset: Path, tmp_path: Path, capsys: pytest.CaptureFixture
 ) -> None:

@@ -341,8 +341,9 @@ def write_image_file(
         Image file; ``.png`` and ``.tif`` keep 16-bit samples and alpha, other suffixes store
         8-bit colour.
     image : numpy.ndarray
-        (H, W) gray or (H, W, 3) RGB: uint8 (written 8-bit) or float on [0, 1] (written 16-bit
-        where the suffix allows, else 8-bit; clipped).
+        (H, W) gray or (H, W, 3) RGB: uint8 (written 8-bit), uint16 (written as it is where the
+        suffix allows, else reduced to 8-bit) or float on [0, 1] (written 16-bit where the
+        suffix allows, else 8-bit; clipped).
     alpha : numpy.ndarray, optional
         (H, W) alpha, uint8 or uint16, written beside the colour where the suffix allows.
 
@@ -361,9 +362,11 @@ def write_image_file(
     path = Path(path)
     deep = path.suffix.lower() in DEEP_SUFFIXES
     lost = []
-    if image.dtype != np.uint8:
+    if image.dtype != np.uint8 and not (deep and image.dtype == np.uint16):
         lost += [] if deep else ["16-bit depth"]
         dtype = np.uint16 if deep else np.uint8
+        if image.dtype == np.uint16:
+            image = image / np.float64(np.iinfo(np.uint16).max)
         image = np.round(np.clip(image, 0.0, 1.0) * np.iinfo(dtype).max).astype(dtype)
     pixels = image if image.ndim == 2 else image[..., ::-1]  # RGB -> BGR
     if alpha is not None and not deep:

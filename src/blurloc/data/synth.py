@@ -39,7 +39,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from ..config import write_rows
-from ..files import atomic_path, dataset_folder
+from ..files import atomic_path, dataset_folder, write_image_file
 from ..geometry import intrinsics
 from ..processes import watch_parent
 from .camera_model import capture
@@ -262,10 +262,8 @@ def _write_frame_files(
     stem: Path, color: np.ndarray, sharp: np.ndarray, depth_mm: np.ndarray, pose: np.ndarray
 ) -> None:
     """Write one frame's colour, sharp and depth images and pose, each whole (then renamed)."""
-    images = {"color": color[..., ::-1], "sharp": sharp[..., ::-1], "depth": depth_mm}
-    for kind, pixels in images.items():
-        with atomic_path(f"{stem}.{kind}.png") as temporary:
-            cv2.imwrite(str(temporary), pixels)
+    for kind, pixels in {"color": color, "sharp": sharp, "depth": depth_mm}.items():
+        write_image_file(f"{stem}.{kind}.png", pixels)
     with atomic_path(f"{stem}.pose.txt") as temporary:
         np.savetxt(temporary, pose, fmt="%.9e", delimiter="\t")
 

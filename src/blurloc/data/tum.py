@@ -21,7 +21,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation, Slerp
 
 from ..errors import DataError
-from ..files import atomic_path, check_output_not_input, decode_image
+from ..files import atomic_path, check_output_not_input, decode_image, write_image_file
 
 #: Columns of the ``frames.csv`` that :func:`convert_tum` writes beside the sequences.
 FRAME_COLUMNS = ("frame", "sequence", "stamp", "source")
@@ -269,12 +269,11 @@ def _write_frame(path: Path, target: Path, width: int | None) -> None:
     """Copy a colour frame, or write it shrunk to ``width`` px as PNG."""
     if not path.is_file():
         raise DataError(f"{path}: colour frame named in rgb.txt is missing")
-    with atomic_path(target) as temporary:
-        if width is None:
+    if width is None:
+        with atomic_path(target) as temporary:
             shutil.copyfile(path, temporary)
-            return
-        image = decode_image(path, cv2.IMREAD_COLOR)
-        height = max(1, round(image.shape[0] * width / image.shape[1]))
-        small = cv2.resize(image, (width, height), interpolation=cv2.INTER_AREA)
-        if not cv2.imwrite(str(temporary), small):
-            raise DataError(f"{target}: cannot write this frame")
+        return
+    image = decode_image(path, cv2.IMREAD_COLOR)
+    height = max(1, round(image.shape[0] * width / image.shape[1]))
+    small = cv2.resize(image, (width, height), interpolation=cv2.INTER_AREA)
+    write_image_file(target, small[..., ::-1])  # BGR -> RGB
