@@ -8,10 +8,9 @@ import json
 import sys
 from pathlib import Path
 
-from ..config import DEFAULT_SEED
 from ..files import check_output, image_files
 from ..images import IMAGE_SUFFIXES
-from .common import OVERWRITE_HELP, RESUME_TRAINING, warnings_to_stderr
+from .common import OVERWRITE_HELP, add_training_options, warnings_to_stderr
 
 
 def _blur_estimate(args: argparse.Namespace) -> int:
@@ -252,15 +251,8 @@ def add_train_video_deblur_parser(commands: argparse._SubParsersAction) -> None:
         help="add that many GoPro-style videos made from photographs to the training videos "
         "(half as many to the validation; default 0)",
     )
-    train.add_argument("--seed", type=int, default=DEFAULT_SEED)
-    train.add_argument("--device", default="auto", help="auto (CUDA when present), cpu, cuda")
-    train.add_argument(
-        "--restart",
-        action="store_true",
-        help="start afresh, replacing a run with other settings in --out",
-    )
-    train.add_argument("--quiet", action="store_true", help="no progress bar")
-    train.set_defaults(handler=_train_video_deblur, resume=RESUME_TRAINING)
+    add_training_options(train)
+    train.set_defaults(handler=_train_video_deblur)
 
 
 def add_deblur_video_parser(commands: argparse._SubParsersAction) -> None:

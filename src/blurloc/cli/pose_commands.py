@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 from pathlib import Path
 
-from ..config import DEFAULT_SEED
 from ..files import check_output
-from .common import OVERWRITE_HELP, RESUME_TRAINING, warnings_to_stderr
+from .common import OVERWRITE_HELP, add_training_options, warnings_to_stderr
 
 
 def _train_pose(args: argparse.Namespace) -> int:
@@ -54,7 +52,6 @@ def _input_root(data: str, condition: str) -> Path:
 
 def _eval_pose(args: argparse.Namespace) -> int:
     check_output(args.out, args.model, args.data, overwrite=args.overwrite)
-    import warnings
 
     import numpy as np
 
@@ -64,11 +61,8 @@ def _eval_pose(args: argparse.Namespace) -> int:
     from ..trajectory import quaternions_to_poses, write_tum
 
     path = Path(args.model) / "best.pt" if Path(args.model).is_dir() else Path(args.model)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with warnings_to_stderr():
         model, config = load_pose_model(path, scene=args.scene)
-    for warning in caught:
-        print(f"warning: {warning.message}", file=sys.stderr)
     sequences = load_split(args.data, args.scene, "test")
     if not sequences:
         raise ValueError(f"{args.data}/{args.scene}: no TestSplit sequences")
@@ -126,15 +120,8 @@ def add_train_pose_parser(commands: argparse._SubParsersAction) -> None:
         action="store_true",
         help="train on centre crops, as tested, instead of random ones",
     )
-    pose.add_argument("--seed", type=int, default=DEFAULT_SEED)
-    pose.add_argument("--device", default="auto")
-    pose.add_argument(
-        "--restart",
-        action="store_true",
-        help="start afresh, replacing a run with other settings in --out",
-    )
-    pose.add_argument("--quiet", action="store_true", help="no progress bar")
-    pose.set_defaults(handler=_train_pose, resume=RESUME_TRAINING)
+    add_training_options(pose)
+    pose.set_defaults(handler=_train_pose)
 
 
 def add_eval_pose_parser(commands: argparse._SubParsersAction) -> None:
