@@ -198,10 +198,59 @@ def photo_training_videos(
     ValueError
         If ``count`` or ``frames`` is not positive or no photograph is given.
     """
-    if count < 1 or frames < 1 or not photos:
-        raise ValueError(f"count ({count}) and frames ({frames}) must be positive, photos given")
+    if frames < 1:
+        raise ValueError(f"frames must be positive, got {frames}")
+    return [photo_video(photo, frames, step_px=step, angle_deg=angle, noise_sigma=noise_sigma,
+                        seed=noise_seed)
+            for photo, step, angle, noise_seed in _training_pans(count, seed, photos)]  # fmt: skip
+
+
+def photo_training_lines(
+    count: int, seed: int = 0, photos: tuple[str, ...] = PHOTO_TRAINING_PHOTOS
+) -> list[tuple[float, float]]:
+    r"""The line blur of each video :func:`photo_training_videos` makes with the same
+    ``count``, ``seed`` and ``photos``: its pan over :func:`photo_video`'s 9 sub-frames.
+
+    .. math::
+
+        L = 9\, s, \qquad \theta = (-\alpha) \bmod 180°
+
+    with :math:`s` the pan per sub-frame and :math:`\alpha` its direction in the image's
+    coordinates (rows downwards), so that :math:`\theta` follows the conventions of
+    :mod:`blurloc.blur.estimation` (counter-clockwise, rows upwards). The small wobble of the
+    pan is left out.
+
+    Parameters
+    ----------
+    count : int
+        Number of videos.
+    seed : int
+        Seed of :func:`photo_training_videos`.
+    photos : tuple of str
+        scikit-image photograph names.
+
+    Returns
+    -------
+    list of (length_px, angle_deg)
+
+    Raises
+    ------
+    ValueError
+        If ``count`` is not positive or no photograph is given.
+    """
+    return [(9.0 * step, (-angle) % 180.0) for _, step, angle, _ in
+            _training_pans(count, seed, photos)]  # fmt: skip
+
+
+def _training_pans(
+    count: int, seed: int, photos: tuple[str, ...]
+) -> list[tuple[np.ndarray, float, float, int]]:
+    """(photograph, pan per sub-frame, direction in degrees, noise seed) of each photo
+    training video: a random crop, quarter turn and mirror, speed and direction."""
+    if count < 1 or not photos:
+        raise ValueError(f"count must be positive ({count}) and photos given")
     rng = np.random.default_rng(seed)
-    videos = []
+    pans = []
     for index in range(count):
         photo = as_float_image(getattr(skimage.data, photos[index % len(photos)])())
         if photo.ndim == 2:
@@ -212,11 +261,9 @@ def photo_training_videos(
         photo = np.rot90(photo[top : top + height, left : left + width, :3], rng.integers(4))
         if rng.random() < 0.5:
             photo = photo[:, ::-1]
-        videos.append(photo_video(np.ascontiguousarray(photo), frames,
-                                  step_px=rng.uniform(0.25, 1.75),
-                                  angle_deg=rng.uniform(0.0, 360.0), noise_sigma=noise_sigma,
-                                  seed=int(rng.integers(2**31))))  # fmt: skip
-    return videos
+        pans.append((np.ascontiguousarray(photo), float(rng.uniform(0.25, 1.75)),
+                     float(rng.uniform(0.0, 360.0)), int(rng.integers(2**31))))  # fmt: skip
+    return pans
 
 
 def add_photo_videos(

@@ -22,7 +22,11 @@ without it nothing bounds them, and a network whose recurrence has become expans
 blows up on long videos. With ``wiener_input`` every frame is first deconvolved by the Wiener
 filter (eq. 4) with its own blind line estimate (Section III.A.1) and a noise-aware NSR, and the
 recurrent network refines the frame with that copy beside it as three more input channels (a
-Wiener step before the learnt refinement).
+Wiener step before the learnt refinement). With ``blur_condition`` the network is told each
+frame's blur as the package estimates it blind (Section III.A.1: length and angle of a line,
+:func:`blur_descriptors`): a small perceptron turns the three numbers into a per-channel scale
+and shift of the full-resolution and of the recurrent features (feature-wise modulation), so
+that one network can apply a different restoration to each frame's blur.
 """
 
 from __future__ import annotations
@@ -36,6 +40,7 @@ import torch
 import torch.nn.functional as F
 from torch import nn
 
+from ..blur import estimate_motion_blur
 from ..deconv import deblur_blind
 from ..stored import VIDEO_SWITCHES_ADDED, complete
 
@@ -46,7 +51,9 @@ class VideoDeblurConfig:
     coarser than the frame the recurrent features are; ``align`` moves the recurrent states by
     the frame-to-frame translation (:func:`frame_translation`); ``bounded_state`` passes the
     hidden and auxiliary states (eq. 8-9) through tanh; ``wiener_input`` gives the network each
-    frame's blind Wiener deconvolution (:func:`wiener_guides`) beside the frame."""
+    frame's blind Wiener deconvolution (:func:`wiener_guides`) beside the frame;
+    ``blur_condition`` modulates the features by each frame's blind blur estimate
+    (:func:`blur_descriptors`)."""
 
     channels: int = 32
     hidden: int = 24
@@ -58,6 +65,7 @@ class VideoDeblurConfig:
     align: bool = False
     bounded_state: bool = True
     wiener_input: bool = False
+    blur_condition: bool = False
 
     def __post_init__(self) -> None:
         if self.feature_stride not in (2, 4):
@@ -267,6 +275,89 @@ def wiener_guides(frames: torch.Tensor) -> torch.Tensor:
     return guides.movedim(-1, -3).to(frames.device)
 
 
+#: Number of values that describe one frame's blur (:func:`blur_descriptor`).
+DESCRIPTOR_SIZE = 3
+
+
+def blur_descriptor(length_px: float, angle_deg: float) -> np.ndarray:
+    r"""Three numbers that describe a line blur, as :class:`VideoDeblurNet` reads it.
+
+    .. math::
+
+        d = \left(\frac{L}{8},\; w \cos 2\theta,\; w \sin 2\theta\right), \qquad
+        w = \frac{L}{L + 2}
+
+    The angle enters doubled, since a line at :math:`\theta` and at :math:`\theta + 180°` is
+    the same blur, and weighted by :math:`w`, which fades the direction of a short blur (whose
+    angle an estimate hardly knows) towards none. A mirror image of the frame (left-right or
+    up-down) negates the third value and keeps the others.
+
+    Parameters
+    ----------
+    length_px : float
+        Blur length L, px (>= 0).
+    angle_deg : float
+        Blur direction :math:`\theta`, degrees counter-clockwise from the image's horizontal
+        axis (the conventions of :mod:`blurloc.blur.estimation`).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 (3,).
+
+    Raises
+    ------
+    ValueError
+        If the length is negative or either value is not finite.
+
+    References
+    ----------
+    Perez, Strub, de Vries, Dumoulin and Courville, "FiLM: visual reasoning with a general
+    conditioning layer", AAAI 2018 (a network conditioned on a few numbers).
+    The paper's Section III.A.1 (the line blur's length and angle).
+    """
+    if not (np.isfinite(length_px) and np.isfinite(angle_deg)) or length_px < 0:
+        raise ValueError(f"a blur needs a finite length >= 0 and a finite angle, got "
+                         f"{length_px} px at {angle_deg} degrees")  # fmt: skip
+    weight = length_px / (length_px + 2.0)
+    doubled = np.radians(2.0 * angle_deg)
+    return np.float32([length_px / 8.0, weight * np.cos(doubled), weight * np.sin(doubled)])
+
+
+def blur_descriptors(frames: torch.Tensor) -> torch.Tensor:
+    r"""Each frame's blind blur estimate as the network reads it (:func:`blur_descriptor`).
+
+    .. math::
+
+        d_t = \mathrm{descriptor}(\hat{L}_t, \hat{\theta}_t)
+
+    with :math:`(\hat{L}_t, \hat{\theta}_t)` the line that
+    :func:`~blurloc.blur.estimate_motion_blur` finds in frame :math:`B_t` (no detection step:
+    a sharp frame's estimate is short, which the descriptor carries). Computed on the 8-bit
+    frames (rounded from the input), without gradients.
+
+    Parameters
+    ----------
+    frames : torch.Tensor
+        (N, T, 3, H, W) blurred frames in [-1, 1]; H and W at least 16.
+
+    Returns
+    -------
+    torch.Tensor
+        (N, T, 3) float32 descriptors, on the device of ``frames``.
+
+    References
+    ----------
+    The paper's Section III.A.1 (blind estimation of the blur's length and angle).
+    """
+    with torch.no_grad():
+        images = frames.detach().float().movedim(-3, -1).add(1.0).mul(127.5).round().clamp(0, 255)
+        images = images.to(torch.uint8).cpu().numpy()
+        estimates = (estimate_motion_blur(image) for image in images.reshape(-1, *images.shape[2:]))
+        values = np.stack([blur_descriptor(e.length_px, e.angle_deg) for e in estimates])
+    return torch.from_numpy(values.reshape(*images.shape[:2], DESCRIPTOR_SIZE)).to(frames.device)
+
+
 class VideoDeblurNet(nn.Module):
     """The recurrent deblurring network; frames in [-1, 1], (N, T, 3, H, W) → same shape."""
 
@@ -309,6 +400,12 @@ class VideoDeblurNet(nn.Module):
             nn.Conv2d(2 * s, s, 3, padding=1), nn.ReLU(),
             nn.Conv2d(s, 3, 3, padding=1),
         )  # fmt: skip
+        if config.blur_condition:  # per-channel scale and shift of the features from the blur
+            self.modulate = nn.Sequential(
+                nn.Linear(DESCRIPTOR_SIZE, c), nn.ReLU(), nn.Linear(c, 2 * (s + c)),
+            )  # fmt: skip
+            nn.init.zeros_(self.modulate[-1].weight)  # starts as no modulation
+            nn.init.zeros_(self.modulate[-1].bias)
         self.last_attention: list[torch.Tensor] = []
 
     def forward(
@@ -317,6 +414,7 @@ class VideoDeblurNet(nn.Module):
         state: tuple | None = None,
         keep_attention: bool = False,
         guides: torch.Tensor | None = None,
+        blur: torch.Tensor | None = None,
     ) -> tuple[torch.Tensor, tuple]:
         r"""Deblur a clip frame by frame in time order (eq. 8-11).
 
@@ -331,7 +429,11 @@ class VideoDeblurNet(nn.Module):
             L_t = B_t + \mathrm{Reconstructor}(f_t, h_t, \tilde{f}_t, \tilde{h}_t)
 
         (with ``wiener_input`` the encoder reads :math:`B_t` and its Wiener copy :math:`W_t`
-        (:func:`wiener_guides`) stacked as six channels; with ``bounded_state``, :math:`h_t` and
+        (:func:`wiener_guides`) stacked as six channels; with ``blur_condition`` the
+        full-resolution features and the features entering the recurrence are each scaled and
+        shifted per channel, :math:`f \mapsto (1 + \gamma_t) f + \beta_t`, with
+        :math:`(\gamma_t, \beta_t)` = MLP(:math:`d_t`) of the frame's blur descriptor
+        (:func:`blur_descriptors`); with ``bounded_state``, :math:`h_t` and
         :math:`\tilde{h}_t` pass through tanh; switched-off parts drop out of the sums). Any H, W:
         frames are padded by replication to a multiple of the feature stride and cropped back.
 
@@ -348,6 +450,11 @@ class VideoDeblurNet(nn.Module):
             (N, T, 3, H, W) Wiener copies of ``frames`` for a network with ``wiener_input``
             (e.g. computed once on whole frames before cropping them); default
             :func:`wiener_guides` of ``frames``. Ignored without ``wiener_input``.
+        blur : torch.Tensor, optional
+            (N, T, 3) blur descriptors of ``frames`` for a network with ``blur_condition``
+            (e.g. estimated once on whole frames before cropping them, mirrored with them);
+            default :func:`blur_descriptors` of ``frames``. Ignored without
+            ``blur_condition``.
 
         Returns
         -------
@@ -359,7 +466,8 @@ class VideoDeblurNet(nn.Module):
         Raises
         ------
         ValueError
-            If ``frames`` is not (N, T, 3, H, W), or ``guides`` is not of its shape.
+            If ``frames`` is not (N, T, 3, H, W), ``guides`` is not of its shape, or ``blur``
+            is not (N, T, 3).
 
         References
         ----------
@@ -382,6 +490,12 @@ class VideoDeblurNet(nn.Module):
                 raise ValueError(f"guides must have the frames' shape {tuple(frames.shape)}, "
                                  f"got {tuple(guides.shape)}")  # fmt: skip
             stacked = torch.cat([frames, guides.to(frames)], 2)
+        if config.blur_condition:
+            blur = blur_descriptors(frames) if blur is None else blur
+            if tuple(blur.shape) != (n, t, DESCRIPTOR_SIZE):
+                raise ValueError(f"blur must be (N, T, {DESCRIPTOR_SIZE}), got "
+                                 f"{tuple(blur.shape)}")  # fmt: skip
+            scale, shift = self.modulate(blur.to(frames)).chunk(2, dim=-1)
         padded = F.pad(stacked.flatten(0, 1), (0, pad_w, 0, pad_h), mode="replicate")
         padded = padded.unflatten(0, (n, t))
         hidden, aux, blended, previous = state if state is not None else (None,) * 4
@@ -396,7 +510,13 @@ class VideoDeblurNet(nn.Module):
                                         for part in (hidden, aux, blended))  # fmt: skip
             previous = blurred
             full = self.encode_full(inputs)
+            if config.blur_condition:
+                width_full = full.shape[1]
+                full = _modulated(full, scale[:, step, :width_full], shift[:, step, :width_full])
             features = self.encode(full)
+            if config.blur_condition:
+                features = _modulated(features, scale[:, step, width_full:],
+                                      shift[:, step, width_full:])  # fmt: skip
             if hidden is None or not config.recurrent:
                 hidden = features.new_zeros(n, config.hidden, *features.shape[-2:])
             features = self.recur(torch.cat([features, hidden], 1))
@@ -424,6 +544,11 @@ class VideoDeblurNet(nn.Module):
             outputs.append(blurred + residual)
         restored = torch.stack(outputs, 1)[..., :height, :width]
         return restored, (hidden, aux, blended, previous)
+
+
+def _modulated(features: torch.Tensor, scale: torch.Tensor, shift: torch.Tensor) -> torch.Tensor:
+    """(N, C, H, W) features scaled by 1 + ``scale`` and shifted by ``shift``, both (N, C)."""
+    return features * (1.0 + scale[..., None, None]) + shift[..., None, None]
 
 
 def parameter_count(model: nn.Module) -> int:

@@ -4,8 +4,8 @@ Clips of ``clip_frames`` consecutive blurred frames with their sharp frames from
 training sequences; random crops, flips and time reversal; Charbonnier loss
 sqrt((L_t - S_t)^2 + eps^2) against the sharp frame; Adam with a cosine learning rate. The end
 of every training sequence (:func:`~blurloc.train.loop.validation_cut`) is held out for
-validation. A network with ``wiener_input`` reads Wiener copies of the training frames, computed
-once on whole frames.
+validation. A network with ``wiener_input`` reads Wiener copies of the training frames, and one
+with ``blur_condition`` their blind blur descriptors, both computed once on whole frames.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from ..config import seed_everything
 from ..data.sevenscenes import SequenceFrames, list_scenes, load_split, read_image
 from ..inference import frames_from_tensor, restore_sequence, to_tensor
 from ..metrics import mean_frame_psnr
-from ..models.video_deblur import VideoDeblurNet, wiener_guides
+from ..models.video_deblur import VideoDeblurNet, blur_descriptors, wiener_guides
 from .config import VideoTrainConfig
 from .loop import (
     choose_device,
@@ -123,9 +123,11 @@ def _read_video(sequence: SequenceFrames, frames: tuple[int, ...]) -> Video:
 def _sample_clips(
     sequences: list[tuple[np.ndarray, ...]], config: VideoTrainConfig, rng: np.random.Generator
 ) -> list[torch.Tensor]:
-    """A batch of random clips: crops, flips and time reversal shared by every video of a
+    """A batch of random clips: crops, flips and time reversal shared by every part of a
     sequence's tuple (blurred, sharp and, for a network with ``wiener_input``, the Wiener
-    copies of the blurred frames)."""
+    copies of the blurred frames, as (T, H, W, 3) videos; for one with ``blur_condition``, the
+    frames' (T, 3) blur descriptors, cut in time only, whose third value a mirror negates:
+    :func:`~blurloc.models.video_deblur.blur_descriptor`)."""
     usable = [s for s in sequences if len(s[0]) >= config.clip_frames]
     if not usable:
         raise ValueError(f"no training sequence has {config.clip_frames} frames")
@@ -138,35 +140,62 @@ def _sample_clips(
         top, left = rng.integers(0, height - crop_h + 1), rng.integers(0, width - crop_w + 1)
         window = (slice(start, start + config.clip_frames), slice(top, top + crop_h),
                   slice(left, left + crop_w))  # fmt: skip
-        clips = [video[window] for video in videos]
-        if rng.random() < 0.5:
-            clips = [clip[:, :, ::-1] for clip in clips]
-        if rng.random() < 0.5:
-            clips = [clip[:, ::-1] for clip in clips]
+        clips = [video[window] if video.ndim == 4 else video[window[0]] for video in videos]
+        for axis in (2, 1):  # left-right, then up-down mirror
+            if rng.random() < 0.5:
+                clips = [np.flip(clip, axis) if clip.ndim == 4 else clip * _MIRRORED
+                         for clip in clips]  # fmt: skip
         if rng.random() < 0.5:
             clips = [clip[::-1] for clip in clips]
         for batch, clip in zip(batches, clips, strict=True):
             batch.append(clip)
-    return [to_tensor(np.stack(batch)) for batch in batches]
+    return [to_tensor(np.stack(batch)) if batch[0].ndim == 4
+            else torch.from_numpy(np.stack(batch).astype(np.float32))
+            for batch in batches]  # fmt: skip
 
 
-def with_wiener_guides(videos: list[Video]) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+#: What a mirror image does to a blur descriptor: negates its third value.
+_MIRRORED = np.float32([1.0, 1.0, -1.0])
+
+
+def with_wiener_guides(videos: list[tuple[np.ndarray, ...]]) -> list[tuple[np.ndarray, ...]]:
     """Training videos with the Wiener copy of every blurred frame, computed once on whole
     frames (:func:`~blurloc.models.video_deblur.wiener_guides`), so that a crop of a clip reads
     the copy its whole frame gives, as the network computes it at inference.
 
     Parameters
     ----------
-    videos : list of (blurred, sharp)
-        uint8 (T, H, W, 3) pairs.
+    videos : list of (blurred, sharp, ...)
+        uint8 (T, H, W, 3) pairs, possibly with more parts.
 
     Returns
     -------
-    list of (blurred, sharp, guides)
-        ``guides`` uint8 (T, H, W, 3), the Wiener copies of ``blurred``.
+    list of (blurred, sharp, ..., guides)
+        ``guides`` uint8 (T, H, W, 3), the Wiener copies of ``blurred``, appended.
     """
-    return [(blurred, sharp, frames_from_tensor(wiener_guides(to_tensor(blurred)[None])[0]))
-            for blurred, sharp in videos]  # fmt: skip
+    return [(*video, frames_from_tensor(wiener_guides(to_tensor(video[0])[None])[0]))
+            for video in videos]  # fmt: skip
+
+
+def with_blur_descriptors(videos: list[tuple[np.ndarray, ...]]) -> list[tuple[np.ndarray, ...]]:
+    """Training videos with the blind blur descriptor of every blurred frame, estimated once on
+    whole frames (:func:`~blurloc.models.video_deblur.blur_descriptors`), as the network
+    estimates them at inference; a video that already carries descriptors (a (T, 3) part, e.g.
+    the blur it was made with) keeps them.
+
+    Parameters
+    ----------
+    videos : list of (blurred, sharp, ...)
+        uint8 (T, H, W, 3) pairs, possibly with more parts.
+
+    Returns
+    -------
+    list of (blurred, sharp, ..., descriptors)
+        ``descriptors`` float32 (T, 3), appended where a video has none.
+    """
+    return [video if any(part.ndim == 2 for part in video)
+            else (*video, blur_descriptors(to_tensor(video[0])[None])[0].numpy())
+            for video in videos]  # fmt: skip
 
 
 def validation_psnr(model: VideoDeblurNet, sequences: list[Video], device: torch.device) -> float:
@@ -236,7 +265,7 @@ def train_video_deblur(
     out_dir = Path(out_dir)
     device = choose_device(config.device)
     counts = {split: {"sequences": len(splits[split]),
-                      "frames": sum(len(blurred) for blurred, _ in splits[split])}
+                      "frames": sum(len(video[0]) for video in splits[split])}
               for split in ("train", "validation")}  # fmt: skip
     settings = {"train_config": config.settings(), **counts}
     resumed = resume_state(out_dir, "video-deblur", settings, restart, device)
@@ -248,7 +277,7 @@ def _crop_that_runs(config: VideoTrainConfig, videos: list[Video]) -> VideoTrain
     """``config`` with its crop clamped to the longest side of the training frames, warning
     when it changes: a clip is cut to ``min(crop, side)`` along each side, so the clamped value
     crops the same clips and is what the checkpoints record."""
-    longest = max((max(blurred.shape[1:3]) for blurred, _ in videos), default=config.crop)
+    longest = max((max(video[0].shape[1:3]) for video in videos), default=config.crop)
     if config.crop <= longest:
         return config
     warnings.warn(f"--crop {config.crop} is larger than the training frames ({longest} px at "
@@ -276,15 +305,19 @@ def _train(
         rng.bit_generator.state = resumed["rng"]
         torch.set_rng_state(resumed["torch_rng"])
         elapsed = history["seconds"][-1] if history["seconds"] else 0.0
-    videos = (with_wiener_guides(splits["train"]) if config.model.wiener_input
-              else splits["train"])  # fmt: skip
+    videos = splits["train"]
+    if config.model.wiener_input:
+        videos = with_wiener_guides(videos)
+    if config.model.blur_condition:
+        videos = with_blur_descriptors(videos)
     losses, started = [], time.perf_counter() - elapsed
     bar = tqdm(total=config.steps, initial=step, disable=not progress, desc="video deblur")
     first_step = step
     while step < config.steps:
         model.train()
-        blurred, sharp, *guides = _sample_clips(videos, config, rng)
-        restored, _ = model(blurred.to(device), guides=guides[0].to(device) if guides else None)
+        blurred, sharp, *extras = _sample_clips(videos, config, rng)
+        parts = {"guides" if part.ndim == 5 else "blur": part.to(device) for part in extras}
+        restored, _ = model(blurred.to(device), **parts)
         loss = torch.sqrt((restored - sharp.to(device)) ** 2 + config.charbonnier_eps**2).mean()
         optimiser.zero_grad()
         loss.backward()
