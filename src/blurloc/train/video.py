@@ -236,7 +236,10 @@ def train_video_deblur(
     Parameters
     ----------
     splits : dict
-        From :func:`load_video_splits` (``train`` and ``validation`` are used).
+        From :func:`load_video_splits` (``train`` and ``validation`` are used). A training
+        video may carry a third part, its (T, 3) blur descriptors (e.g. the true blur it was
+        made with), which a network with ``blur_condition`` then reads instead of its blind
+        estimates (:func:`with_blur_descriptors`).
     out_dir : str or os.PathLike
         The run folder.
     config : VideoTrainConfig, optional
