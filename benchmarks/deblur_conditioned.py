@@ -32,8 +32,11 @@ thread, in ``--workers`` processes.
 Scored (PSNR, eq. 6, against the sharp frames; a video's gain is its mean per-frame PSNR
 minus its blurred frames'): the first ``--test-frames`` frames of every test sequence under
 its recorded lines, no noise; the same frames as rendered (the stand-in's own blur and sensor
-noise: across the training's domain); the photo-video set without noise (5 photographs never
-trained on x 3 pan speeds, their true line known); and the real GoPro blurred/sharp pair of the
+noise: outside the training's domain; the told arm reads the recorded lines, which only
+approximate the rendered blur); the photo-video set without noise (5 photographs never trained
+on x 3 pan speeds; the told arm reads the line of the pan, which leaves out its wobble and so
+is far from the true blur on slow pans: :func:`~blurloc.experiments.photo_video.
+photo_training_lines`); and the real GoPro blurred/sharp pair of the
 development set (a 3-frame video of the blurred photograph, the last frame scored; no true
 line, so the told arm reads the estimate there). Per arm and seed the mean gain over the
 videos; each conditioned arm minus ``plain``, paired by seed, with its 95 % t-interval
@@ -250,10 +253,10 @@ def main() -> None:
 
     parameters = {arm: parameter_count(VideoDeblurNet(ARMS[arm][0])) for arm in arms}
     gain_rows, versus_rows, video_rows = [], [], []
-    for name, arms in by_arm.items():
+    for name, scored in by_arm.items():
         means = {arm: {seed: float(np.mean(v)) for seed, v in seeds.items()}
-                 for arm, seeds in arms.items()}  # fmt: skip
-        for arm, seeds in arms.items():
+                 for arm, seeds in scored.items()}  # fmt: skip
+        for arm, seeds in scored.items():
             gain_rows += [{"test_set": name, "arm": arm, "seed": seed, "videos": len(values),
                            "gain_db": round(means[arm][seed], 3),
                            "worst_video_gain_db": round(min(values), 3)}

@@ -120,3 +120,16 @@ def test_training_a_conditioned_network_learns_and_stores_the_switch(
     history = train_video_deblur(splits, tmp_path, config, progress=False)
     assert history["train_loss"][-1] < history["train_loss"][0]
     assert load_video_deblur(tmp_path / "best.pt").config.blur_condition
+
+
+def test_training_mixes_videos_with_and_without_their_own_descriptors(tmp_path: Path) -> None:
+    blurred, sharp = photo_video(skimage.data.coffee(), 4, step_px=1.0, noise_sigma=0.0)
+    told = np.tile(blur_descriptor(9.0, 0.0), (4, 1))
+    splits = {"train": [(blurred, sharp, told), (blurred, sharp)],
+              "validation": [(blurred, sharp)]}  # fmt: skip
+    model = VideoDeblurConfig(channels=8, hidden=4, blocks=1, blur_condition=True,
+                              wiener_input=True)  # fmt: skip
+    config = VideoTrainConfig(steps=2, batch=2, clip_frames=2, crop=32, validate_every=2,
+                              threads=1, device="cpu", model=model)  # fmt: skip
+    history = train_video_deblur(splits, tmp_path, config, progress=False)
+    assert history["step"] == [2]

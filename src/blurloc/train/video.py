@@ -309,10 +309,10 @@ def _train(
         torch.set_rng_state(resumed["torch_rng"])
         elapsed = history["seconds"][-1] if history["seconds"] else 0.0
     videos = splits["train"]
+    if config.model.blur_condition:  # first: every video then holds its descriptors third
+        videos = with_blur_descriptors(videos)
     if config.model.wiener_input:
         videos = with_wiener_guides(videos)
-    if config.model.blur_condition:
-        videos = with_blur_descriptors(videos)
     losses, started = [], time.perf_counter() - elapsed
     bar = tqdm(total=config.steps, initial=step, disable=not progress, desc="video deblur")
     first_step = step
