@@ -16,14 +16,16 @@ its restoration is not expected to gain
 (:func:`blurloc.deconv.blind_restoration_expected_to_gain`: sinc-fit confidence, anisotropy of
 the spectrum's fall-off, blur length at the analysis scale against the noise, the sinc-refined
 length against the coarse one). This script measures, for every frame of its sets, the gate's
-inputs and the PSNR change that blind Wiener deconvolution (eq. 4) would bring:
+inputs and the PSNR change that blind Wiener deconvolution would bring, by eq. 4 with its
+constant NSR rule and with the gradient regulariser (:func:`blurloc.deconv.wiener_deconvolve`)
+at weights WEIGHTS_PER_NOISE times the frame's noise sigma:
 
 - fit set: scikit-image photographs (astronaut, coffee, chelsea, rocket, camera,
   immunohistochemistry, hubble_deep_field, cat) at 160x120 and 640x480, blurred the way a camera
   blurs (:func:`camera_blur`: sub-frames along a camera-shake path, extents 0-44 px at 640x480
-  and half at 160x120, turned about the image centre, averaged in linear light) with Gaussian
-  noise σ 0.002, 0.01 and 0.02 on the encoded intensities, rounded to 8 bits, against the
-  mid-exposure sub-frame;
+  and half at 160x120, turned about the image centre, averaged in linear light) without noise
+  (but for extent 0, the sharp frame itself) and with Gaussian noise σ 0.002, 0.01 and 0.02 on
+  the encoded intensities, rounded to 8 bits, against the mid-exposure sub-frame;
 - held-out photographs: the other bundled photographs (coins, moon, page, retina, gravel, brick,
   text) the same way with another seed, half along straight paths instead of shake paths;
 - fit stand-ins: every ``*.color.png`` under each ``--fit-standin`` root with its
@@ -32,15 +34,15 @@ inputs and the PSNR change that blind Wiener deconvolution (eq. 4) would bring:
 - real frames: the real blurred/sharp pair (:func:`blurloc.data.real.load_pairs`, scored), the
   real blurred photographs and the 80 posed TUM RGB-D frames (no reference: counted only).
 
-It picks the gate's thresholds on the fit sets alone, pooled (a grid; the largest mean change
-over all frames, passed-through frames counting 0 dB, among rules whose median change over
-restored frames is above 0 and that restore at least 5 frames; ties go to the rule restoring
-fewer frames, then to the strictest), prints them beside the ones the package ships,
-then reports, per set, the mean change with its 95 % bootstrap interval
+It picks the restoration and the gate's thresholds on the fit sets alone, pooled (a grid; the
+largest mean change over all frames, passed-through frames counting 0 dB, among rules whose
+median change over restored frames is above 0 and that restore at least 5 frames; ties go to
+the rule restoring fewer frames, then to the strictest), prints them beside the ones the package
+ships, then reports, per set, the mean change with its 95 % bootstrap interval
 (:func:`blurloc.intervals.paired_interval` over frames), the median over restored frames and the
 counts, for the shipped gate, the grid's choice (where it differs) and the ungated rule (every
-frame the detector calls blurred is restored). Writes ``<out-dir>/choose_blind_gate.md`` and
-``.csv``.
+frame the detector calls blurred is restored; by eq. 4 and by the chosen restoration). Writes
+``<out-dir>/choose_blind_gate.md`` and ``.csv``.
 """
 
 from __future__ import annotations
@@ -63,6 +65,7 @@ from blurloc.blur import (
 )
 from blurloc.data.real import load_pairs, load_photographs, posed_root
 from blurloc.deconv import (
+    BLIND_REGULARISER,
     GATE_MAX_AGREEMENT,
     GATE_MAX_LENGTH,
     GATE_MIN_ANISOTROPY,
@@ -70,6 +73,7 @@ from blurloc.deconv import (
     GATE_MIN_LENGTH,
     GATE_NOISE_EXPONENT,
     GATE_REFERENCE_NOISE,
+    GRADIENT_WEIGHT_PER_NOISE,
     wiener_deconvolve,
 )
 from blurloc.images import srgb_to_linear, to_uint8
@@ -83,7 +87,7 @@ FIT_PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "camera", "immunohisto
 #: so it has no sharp reference to score a restoration against.
 HELD_OUT_PHOTOS = ("coins", "moon", "page", "retina", "gravel", "brick", "text")
 EXTENTS_PX = (0, 2, 4, 8, 14, 22, 32, 44)  # at 640x480; halved at 160x120
-NOISE_SIGMAS = (0.002, 0.01, 0.02)
+NOISE_SIGMAS = (0.0, 0.002, 0.01, 0.02)
 #: Largest turn of the camera about its axis over the exposure, as a share of the extent: the
 #: image corners move by up to half the extent more (or less) than the centre.
 ROLL_SHARE = 0.5
@@ -117,22 +121,49 @@ def camera_blur(
     return to_uint8(total / steps, rng.normal(0.0, noise, linear.shape))
 
 
+def regulariser_label(weight_per_noise: float | None) -> str:
+    """Name of a restoration rule: eq. 4's constant NSR (None) or the gradient regulariser with
+    weight ``weight_per_noise`` * sigma."""
+    if weight_per_noise is None:
+        return "constant NSR (eq. 4)"
+    return f"gradient, weight {weight_per_noise:g} sigma"
+
+
+#: The restorations measured on every frame: eq. 4 with its NSR rule, and Wiener with the
+#: gradient regulariser at weights WEIGHTS_PER_NOISE * the frame's noise sigma.
+WEIGHTS_PER_NOISE = (1.0, 2.0, 5.0, 10.0, 20.0, 40.0)
+REGULARISER_RULES = (None, *WEIGHTS_PER_NOISE)
+
+
+def restore(blurred: np.ndarray, kernel: np.ndarray, weight_per_noise: float | None,
+            noise: float) -> np.ndarray:  # fmt: skip
+    """Wiener deconvolution of a uint8 frame by one of REGULARISER_RULES."""
+    if weight_per_noise is None:
+        return wiener_deconvolve(blurred, kernel)
+    return wiener_deconvolve(blurred, kernel, max(weight_per_noise * noise, 1e-6), "gradient")
+
+
 def measure(blurred: np.ndarray, sharp: np.ndarray | None) -> dict:
-    """The gate's inputs for one uint8 frame and the PSNR change (dB) of restoring it (NaN
-    without a sharp reference; 0 where the detector calls the frame sharp). ``agreement``: the
-    estimate's length over the coarse length, both in the frame's pixels."""
+    """The gate's inputs for one uint8 frame and the PSNR change (dB) of restoring it by each of
+    REGULARISER_RULES (``gains``: NaN without a sharp reference; 0 where the detector calls the
+    frame sharp). ``agreement``: the estimate's length over the coarse length, both in the
+    frame's pixels."""
     features = blur_features(blurred)
     length = analysis_length(features)
     estimate = estimate_motion_blur(blurred, features=features)
+    noise = estimate_noise_sigma(blurred)
     detected = length > BLUR_THRESHOLD
-    gain = 0.0 if sharp is not None else float("nan")
-    if detected and sharp is not None:
-        restored = wiener_deconvolve(blurred, estimate.kernel())
-        gain = psnr(sharp, restored, 255.0) - psnr(sharp, blurred, 255.0)
+    gains = {}
+    for weight in REGULARISER_RULES:
+        gain = 0.0 if sharp is not None else float("nan")
+        if detected and sharp is not None:
+            restored = restore(blurred, estimate.kernel(), weight, noise)
+            gain = psnr(sharp, restored, 255.0) - psnr(sharp, blurred, 255.0)
+        gains[weight] = gain
     agreement = estimate.length_px / max(length * features.scale, 1e-9)
     return {"detected": detected, "length": length, "fit": estimate.fit,
-            "anisotropy": features.anisotropy, "noise": estimate_noise_sigma(blurred),
-            "agreement": agreement, "gain_db": gain}  # fmt: skip
+            "anisotropy": features.anisotropy, "noise": noise,
+            "agreement": agreement, "gains": gains}  # fmt: skip
 
 
 def photo_set(photos: tuple[str, ...], seed: int, lines: bool) -> list[dict]:
@@ -147,6 +178,8 @@ def photo_set(photos: tuple[str, ...], seed: int, lines: bool) -> list[dict]:
             sharp = cv2.resize(photo, (width, height), interpolation=cv2.INTER_AREA)
             for index, (extent, noise) in enumerate(itertools.product(EXTENTS_PX, NOISE_SIGMAS)):
                 extent *= 0.5 if width < 640 else 1.0
+                if extent == 0 and noise == 0:  # the sharp frame itself: no finite PSNR
+                    continue
                 if extent == 0:
                     path = np.zeros((1, 2))
                 elif lines and index % 2:
@@ -200,16 +233,19 @@ def touched(rows: list[dict], thresholds: tuple[float, ...]) -> np.ndarray:
     )  # fmt: skip
 
 
-#: Columns of the table: a set, a rule and :func:`outcome`'s measures (empty where it has none).
-COLUMNS = ("set", "rule", "frames", "restored", "mean_change_db", "interval_95_db",
-           "median_restored_db", "restored_with_gain")  # fmt: skip
+#: Columns of the table: a set, a gate, a restoration and :func:`outcome`'s measures (empty
+#: where it has none).
+COLUMNS = ("set", "rule", "restoration", "frames", "restored", "mean_change_db",
+           "interval_95_db", "median_restored_db", "restored_with_gain")  # fmt: skip
 
 
-def outcome(rows: list[dict], thresholds: tuple[float, ...], interval: bool = False) -> dict:
+def outcome(rows: list[dict], thresholds: tuple[float, ...], weight: float | None,
+            interval: bool = False) -> dict:  # fmt: skip
     """Counts, mean change over all frames (passed-through frames: 0 dB; with ``interval`` its
-    95 % bootstrap interval) and median change over restored frames, under a gate."""
+    95 % bootstrap interval) and median change over restored frames, under a gate, for the
+    restoration ``weight`` (a key of REGULARISER_RULES)."""
     restored = touched(rows, thresholds)
-    gains = np.array([r["gain_db"] for r in rows])
+    gains = np.array([r["gains"][weight] for r in rows])
     result = {"frames": len(rows), "restored": int(restored.sum())}
     if np.isnan(gains).any():  # no reference: the counts are all there is
         return result
@@ -227,23 +263,29 @@ def outcome(rows: list[dict], thresholds: tuple[float, ...], interval: bool = Fa
     return result
 
 
-def choose(rows: list[dict]) -> tuple[float, ...]:
-    """The grid's thresholds with the largest mean change on ``rows`` (median over restored
-    frames above 0, at least 5 restored); of rules within 0.001 dB of it, the one that restores
-    the fewest frames, and of those the strictest (largest lower thresholds, then smallest
-    maximum length): the fit set cannot tell
-    them apart, and the stricter rule risks less on frames unlike it."""
-    gains = np.array([r["gain_db"] for r in rows])
+def choose(rows: list[dict]) -> tuple[float | None, tuple[float, ...]]:
+    """The restoration (a key of REGULARISER_RULES) and the grid's thresholds with the largest
+    mean change on ``rows`` (median over restored frames above 0, at least 5 restored); of rules
+    within 0.001 dB of it, the one that restores the fewest frames, and of those the strictest
+    (largest lower thresholds, then smallest maximum length): the fit set cannot tell them
+    apart, and the stricter rule risks less on frames unlike it. Between restorations, ties go
+    to eq. 4's constant NSR, then to the smaller weight."""
+    gains = {weight: np.array([r["gains"][weight] for r in rows]) for weight in REGULARISER_RULES}
     candidates = []
     for thresholds in itertools.product(*GRID.values()):
         restored = touched(rows, thresholds)
-        if restored.sum() >= 5 and np.median(gains[restored]) > 0:
-            mean = float(np.where(restored, gains, 0.0).mean())
-            strictness = (*thresholds[:4], -thresholds[4], -thresholds[5])
-            candidates.append((round(mean, 3), -int(restored.sum()), strictness, thresholds))
+        if restored.sum() < 5:
+            continue
+        strictness = (*thresholds[:4], -thresholds[4], -thresholds[5])
+        for order, (weight, gain) in enumerate(gains.items()):
+            if np.median(gain[restored]) > 0:
+                mean = float(np.where(restored, gain, 0.0).mean())
+                candidates.append((round(mean, 3), -int(restored.sum()), strictness, -order,
+                                   weight, thresholds))  # fmt: skip
     if not candidates:
         raise SystemExit("no rule of the grid restores frames with a median gain")
-    return max(candidates)[3]
+    best = max(candidates, key=lambda candidate: candidate[:4])
+    return best[4], best[5]
 
 
 def main() -> None:
@@ -267,29 +309,37 @@ def main() -> None:
             "held-out photographs, shake and straight paths": photo_set(HELD_OUT_PHOTOS, 2, True),
             **{f"stand-in {root.name}": standin_set(root) for root in args.standin},
             **real_sets()}  # fmt: skip
-    chosen = choose([row for frames in fit_sets.values() for row in frames])
+    chosen_weight, chosen = choose([row for frames in fit_sets.values() for row in frames])
     shipped = (GATE_MIN_FIT, GATE_MIN_ANISOTROPY, GATE_MIN_LENGTH, GATE_NOISE_EXPONENT,
                GATE_MAX_LENGTH, GATE_MAX_AGREEMENT)  # fmt: skip
+    shipped_weight = None if BLIND_REGULARISER == "constant" else GRADIENT_WEIGHT_PER_NOISE
     print(f"chosen on the fit sets (fit, anisotropy, min length, noise exponent, max length, "
-          f"max agreement): "
-          f"{chosen}; shipped: {shipped}")  # fmt: skip
-    rules = {"gated (shipped)": shipped, "gated (chosen on the fit sets)": chosen,
-             "ungated": UNGATED}  # fmt: skip
-    if chosen == shipped:
+          f"max agreement): {chosen}, {regulariser_label(chosen_weight)}; shipped: {shipped}, "
+          f"{regulariser_label(shipped_weight)}")  # fmt: skip
+    rules = {"gated (shipped)": (shipped, shipped_weight),
+             "gated (chosen on the fit sets)": (chosen, chosen_weight),
+             "ungated": (UNGATED, None), "ungated ": (UNGATED, chosen_weight)}  # fmt: skip
+    if (chosen, chosen_weight) == (shipped, shipped_weight):
         del rules["gated (chosen on the fit sets)"]
+    if chosen_weight is None:
+        del rules["ungated "]
     rows = []
     for name, frames in sets.items():
-        for rule, thresholds in rules.items():
-            found = {"set": name, "rule": rule, **outcome(frames, thresholds, True)}
+        for rule, (thresholds, weight) in rules.items():
+            found = {"set": name, "rule": rule.strip(), "restoration": regulariser_label(weight),
+                     **outcome(frames, thresholds, weight, True)}  # fmt: skip
             rows.append({column: found.get(column, "") for column in COLUMNS})
             print(rows[-1])
     notes = (
         "PSNR change of blind Wiener deblurring against the sharp frame (dB), with and without "
-        f"its gate. Gate chosen on the sets marked fit only ({len(fit_sets)} of them): sinc fit "
-        f">= {shipped[0]}, anisotropy >= "
+        f"its gate. Gate and restoration chosen on the sets marked fit only ({len(fit_sets)} of "
+        f"them). Shipped: sinc fit >= {shipped[0]}, anisotropy >= "
         f"{shipped[1]}, {shipped[2]} * (noise sigma / {GATE_REFERENCE_NOISE}) ** {shipped[3]} <= "
         f"blur length at the analysis scale <= {shipped[4]} px, sinc-refined length <= "
-        f"{shipped[5]} * the coarse length (the grid's choice: {chosen}). "
+        f"{shipped[5]} * the coarse length, restoration {regulariser_label(shipped_weight)} "
+        f"(the grid's choice: {chosen}, {regulariser_label(chosen_weight)}). Restorations: eq. 4 "
+        "with its constant NSR rule, or Wiener with the gradient regulariser (NSR(f) = weight "
+        "|D(f)|^2, weight = a multiple of the frame's noise sigma). "
         "Mean change over all frames, passed-through frames counting 0 dB, with its 95 % "
         "bootstrap interval over frames; median over the frames restored. Real frames without a "
         "reference: counts only."

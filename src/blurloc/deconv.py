@@ -30,6 +30,18 @@ from .images import check_image
 NSR_COEFFICIENT = 0.59
 NSR_EXPONENT = 0.72
 
+#: How the NSR of eq. 4 depends on frequency (:func:`wiener_deconvolve`): ``"constant"``, one
+#: NSR for every frequency, as eq. 4 is printed; ``"gradient"``, NSR(f) = lambda |D(f)|^2 with
+#: |D(f)|^2 the squared response of the image's horizontal and vertical differences, the Wiener
+#: filter for an image whose power spectrum falls as 1/|f|^2 (a natural image's), which leaves
+#: the mean (f = 0) untouched where a constant NSR scales it by 1 / (1 + NSR).
+REGULARISERS = ("constant", "gradient")
+#: Blind deblurring (:func:`deblur_blind`) restores with BLIND_REGULARISER; for the gradient
+#: regulariser its weight is lambda = GRADIENT_WEIGHT_PER_NOISE * sigma (sigma: the frame's noise,
+#: [0, 1] scale). Chosen with the gate below by ``benchmarks/choose_blind_gate.py``.
+BLIND_REGULARISER = "constant"
+GRADIENT_WEIGHT_PER_NOISE = 10.0
+
 #: Blind deblurring restores a frame only where the frame itself says that the restoration is
 #: likely to gain (:func:`blind_restoration_expected_to_gain`):
 #:
@@ -212,13 +224,50 @@ def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
     return result if image.dtype == np.uint8 else result.astype(image.dtype)
 
 
-def _wiener_response(otf: np.ndarray, nsr: float) -> np.ndarray:
-    """conj(C) / (|C|^2 + NSR), the frequency response of eq. 4, in the OTF's precision."""
-    return otf.conj() / (otf.real**2 + otf.imag**2 + np.float32(nsr))
+def difference_power(shape: tuple[int, int]) -> np.ndarray:
+    r"""Squared response of the horizontal and vertical first differences on a DFT grid.
+
+    .. math::
+
+        |D(u, v)|^2 = 4 \sin^2(\pi u / M) + 4 \sin^2(\pi v / N)
+
+    Zero at the mean (u = v = 0), 8 at the highest frequency; the gradient regulariser of
+    :func:`wiener_deconvolve` weighs the NSR by it.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        (M, N) size of the transform.
+
+    Returns
+    -------
+    numpy.ndarray
+        (M, N // 2 + 1) float32, in the ``rfft2`` layout of :func:`kernel_to_otf`.
+
+    References
+    ----------
+    Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Section 5.9
+    (constrained least squares filtering).
+    """
+    rows = 4.0 * np.sin(np.pi * np.fft.fftfreq(shape[0]))[:, None] ** 2
+    columns = 4.0 * np.sin(np.pi * np.fft.rfftfreq(shape[1]))[None, :] ** 2
+    return (rows + columns).astype(np.float32)
+
+
+def _wiener_response(otf: np.ndarray, nsr: float, regulariser: str = "constant") -> np.ndarray:
+    """conj(C) / (|C|^2 + NSR(f)), the frequency response of eq. 4, in the OTF's precision."""
+    weight = np.float32(nsr)
+    if regulariser == "gradient":
+        rows = otf.shape[0]
+        weight = weight * difference_power((rows, 2 * (otf.shape[1] - 1)))
+    return otf.conj() / (otf.real**2 + otf.imag**2 + weight)
 
 
 def wiener_deconvolve(
-    image: np.ndarray, kernel: np.ndarray, nsr: float | None = None
+    image: np.ndarray,
+    kernel: np.ndarray,
+    nsr: float | None = None,
+    regulariser: str = "constant",
 ) -> np.ndarray:
     r"""Wiener deconvolution (eq. 4) of each channel, with mirror-padded boundaries.
 
@@ -226,10 +275,15 @@ def wiener_deconvolve(
 
         \tilde{x} = F^{-1}\left\{ \frac{|F\{c\}|^2}{|F\{c\}|^2 + 1/\mathrm{SNR}}
         \cdot \frac{F\{b\}}{F\{c\}} \right\}
-        = F^{-1}\left\{ \frac{\overline{F\{c\}}}{|F\{c\}|^2 + \mathrm{NSR}}\, F\{b\} \right\}
+        = F^{-1}\left\{ \frac{\overline{F\{c\}}}{|F\{c\}|^2 + \mathrm{NSR}(f)}\,
+        F\{b\} \right\}
 
-    With NSR -> 0 it becomes the inverse filter (eq. 3). The constant NSR stands for the ratio of
-    the noise's to the image's power spectral density, which eq. 4 assumes known per frequency.
+    With NSR -> 0 it becomes the inverse filter (eq. 3). The NSR stands for the ratio of the
+    noise's to the image's power spectral density, which eq. 4 assumes known per frequency. With
+    ``regulariser="constant"`` (eq. 4 as the paper prints it) it is one number, so the mean
+    intensity, where the kernel's response is 1, is scaled by 1 / (1 + NSR). With
+    ``"gradient"`` it is :math:`\lambda |D(f)|^2` (:func:`difference_power`): the NSR of an
+    image whose power spectrum falls as :math:`1/|f|^2`, zero at the mean, which is then kept.
     The image is extended by mirror reflection (by the kernel size plus 8 px) before the DFT and
     cropped back, so that its non-matching opposite edges do not ring.
 
@@ -240,7 +294,11 @@ def wiener_deconvolve(
     kernel : numpy.ndarray
         (h, w) PSF c (normalised to sum 1 here), no larger than the image.
     nsr : float, optional
-        The constant 1/SNR (> 0); default :func:`estimate_nsr` of the image.
+        The constant 1/SNR, or :math:`\lambda` for the gradient regulariser (> 0); default, for
+        the constant NSR only, :func:`estimate_nsr` of the image (no rule is fitted for
+        :math:`\lambda`).
+    regulariser : str
+        ``"constant"`` or ``"gradient"`` (REGULARISERS).
 
     Returns
     -------
@@ -250,20 +308,28 @@ def wiener_deconvolve(
     Raises
     ------
     ValueError
-        If ``nsr`` is not > 0, or the image or kernel is invalid.
+        If ``nsr`` is not > 0 (or not given with the gradient regulariser), ``regulariser`` is
+        unknown, or the image or kernel is invalid.
 
     References
     ----------
     Wiener, *Extrapolation, Interpolation, and Smoothing of Stationary Time Series*, MIT Press,
-    1949. Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Sections 5.7-5.8
-    (inverse and minimum mean square error filtering). The paper's eq. 4.
+    1949. Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Sections 5.7-5.9
+    (inverse, minimum mean square error and constrained least squares filtering). Field,
+    "Relations between the statistics of natural images and the response properties of cortical
+    cells", JOSA A 4(12), 1987 (power spectra of natural images fall as 1/f^2). The paper's
+    eq. 4.
     """
+    if regulariser not in REGULARISERS:
+        raise ValueError(f"regulariser must be one of {REGULARISERS}, got {regulariser!r}")
     image = check_image(image)
+    if nsr is None and regulariser == "gradient":
+        raise ValueError("the gradient regulariser needs its weight: pass nsr")
     if nsr is None:
         nsr = estimate_nsr(image)
     if not np.isfinite(nsr) or nsr <= 0:
         raise ValueError(f"nsr must be > 0, got {nsr}")
-    return _filter(image, kernel, lambda otf: _wiener_response(otf, nsr))
+    return _filter(image, kernel, lambda otf: _wiener_response(otf, nsr, regulariser))
 
 
 def inverse_filter(image: np.ndarray, kernel: np.ndarray, threshold: float = 1e-3) -> np.ndarray:
@@ -440,6 +506,7 @@ def deblur_blind(
     nsr: float | None = None,
     threshold: float = BLUR_THRESHOLD,
     gated: bool = True,
+    regulariser: str = BLIND_REGULARISER,
 ) -> np.ndarray:
     r"""Blind deblurring of one image: detect the blur, estimate it, undo it by eq. 4.
 
@@ -448,8 +515,12 @@ def deblur_blind(
 
     .. math::
 
-        \tilde{x} = F^{-1}\left\{ \frac{\overline{F\{\hat{c}\}}}{|F\{\hat{c}\}|^2 + \mathrm{NSR}}
-        \, F\{b\} \right\}
+        \tilde{x} = F^{-1}\left\{ \frac{\overline{F\{\hat{c}\}}}{|F\{\hat{c}\}|^2
+        + \mathrm{NSR}(f)} \, F\{b\} \right\}
+
+    with the constant NSR of :func:`estimate_nsr`, or, for the gradient regulariser,
+    :math:`\mathrm{NSR}(f) = \lambda |D(f)|^2` with :math:`\lambda` =
+    GRADIENT_WEIGHT_PER_NOISE times the image's noise sigma.
 
     An image judged sharp, or (with ``gated``, the default) one whose restoration is not
     expected to gain (:func:`blind_restoration_expected_to_gain`), is returned unchanged (as a
@@ -460,12 +531,16 @@ def deblur_blind(
     image : numpy.ndarray
         (H, W) or (H, W, 3) image, uint8 or float in [0, 1]; short side >= 16 px.
     nsr : float, optional
-        The constant 1/SNR (> 0); default :func:`estimate_nsr` of the image.
+        The constant 1/SNR, or the gradient regulariser's weight (> 0); default from the image's
+        noise (see above).
     threshold : float
         Blur length (px at the analysis scale, as :func:`~blurloc.blur.blur_score`) above which
         the image counts as blurred.
     gated : bool
         Pass through a frame whose restoration is not expected to gain.
+    regulariser : str
+        The NSR's dependence on frequency (:func:`wiener_deconvolve`); default
+        BLIND_REGULARISER.
 
     Returns
     -------
@@ -478,9 +553,14 @@ def deblur_blind(
     Wiener 1949; Gonzalez and Woods 2018 (see :func:`wiener_deconvolve`). The paper's Section
     III.A.1 and eq. 4.
     """
+    if regulariser not in REGULARISERS:
+        raise ValueError(f"regulariser must be one of {REGULARISERS}, got {regulariser!r}")
     kernel, noise_sigma = _blind_estimate(image, threshold, gated)
     if kernel is None:
         return image.copy()
-    if nsr is None and noise_sigma is not None:  # measured already: do not measure it twice
-        nsr = _nsr_from_noise(noise_sigma)
-    return wiener_deconvolve(image, kernel, nsr)
+    if nsr is None:
+        if noise_sigma is None:  # not measured on the way
+            noise_sigma = estimate_noise_sigma(image)
+        nsr = (_nsr_from_noise(noise_sigma) if regulariser == "constant"
+               else max(GRADIENT_WEIGHT_PER_NOISE * noise_sigma, 1e-6))  # fmt: skip
+    return wiener_deconvolve(image, kernel, nsr, regulariser)

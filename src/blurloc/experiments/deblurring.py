@@ -11,10 +11,11 @@ import numpy as np
 from skimage.restoration import richardson_lucy, unsupervised_wiener, wiener
 from tqdm.auto import tqdm
 
-from ..blur import blur_image
+from ..blur import blur_image, estimate_noise_sigma
 from ..data.samples import split_frames
 from ..data.sevenscenes import read_image
 from ..deconv import (
+    GRADIENT_WEIGHT_PER_NOISE,
     blind_kernel,
     estimate_nsr,
     inverse_filter,
@@ -187,6 +188,8 @@ def deblurring_methods(
     """The single-image methods compared in notebook 02.
 
     ``blind_wiener`` is this package's eq. 4 with the NSR estimated from the noise;
+    ``blind_wiener_gradient`` the same with the gradient regulariser (weight
+    GRADIENT_WEIGHT_PER_NOISE times the noise sigma, :func:`~blurloc.deconv.wiener_deconvolve`);
     scikit-image's ``wiener``, ``unsupervised_wiener`` and ``richardson_lucy`` are fed the same
     estimated kernel; ``blurred`` returns its input.
 
@@ -221,6 +224,11 @@ def deblurring_methods(
     return {
         "blurred": lambda image, kernel: image,
         "blind_wiener": skip_if_sharp(lambda im, k: wiener_deconvolve(im, k)),
+        "blind_wiener_gradient": skip_if_sharp(
+            lambda im, k: wiener_deconvolve(
+                im, k, max(GRADIENT_WEIGHT_PER_NOISE * estimate_noise_sigma(im), 1e-6), "gradient"
+            )
+        ),
         "skimage_wiener": skip_if_sharp(
             lambda im, k: _per_channel(lambda c: wiener(c, k, skimage_balance), im)
         ),

@@ -29,20 +29,29 @@ from ..metrics import psnr, ssim
 from .deblurring import paper_fig6_7
 from .rows import grouped_means, matching
 
-#: The runs, each (kernel, intensity space, NSR): one ingredient changes between neighbours.
+#: The runs, each (kernel, intensity space, NSR, regulariser): one ingredient changes between
+#: neighbours. The regulariser is the NSR's dependence on frequency
+#: (:func:`~blurloc.deconv.wiener_deconvolve`): constant, as eq. 4 is printed, or the gradient's.
 VARIANTS = {
-    "blind": ("estimated line", "gamma", "rule"),
-    "line_rule": ("recorded line", "gamma", "rule"),
-    "line_best": ("recorded line", "gamma", "best"),
-    "path_rule": ("true path", "gamma", "rule"),
-    "path_best": ("true path", "gamma", "best"),
-    "path_linear_rule": ("true path", "linear", "rule"),
-    "path_linear_best": ("true path", "linear", "best"),
+    "blind": ("estimated line", "gamma", "rule", "constant"),
+    "line_rule": ("recorded line", "gamma", "rule", "constant"),
+    "line_best": ("recorded line", "gamma", "best", "constant"),
+    "path_rule": ("true path", "gamma", "rule", "constant"),
+    "path_best": ("true path", "gamma", "best", "constant"),
+    "path_linear_rule": ("true path", "linear", "rule", "constant"),
+    "path_linear_best": ("true path", "linear", "best", "constant"),
+    "path_best_gradient": ("true path", "gamma", "best", "gradient"),
+    "line_best_gradient": ("recorded line", "gamma", "best", "gradient"),
+    "blind_best_gradient": ("estimated line", "gamma", "best", "gradient"),
 }
 
 
 def best_nsr(
-    blurred: np.ndarray, sharp: np.ndarray, kernel: np.ndarray, linear: bool = False
+    blurred: np.ndarray,
+    sharp: np.ndarray,
+    kernel: np.ndarray,
+    linear: bool = False,
+    regulariser: str = "constant",
 ) -> tuple[float, float]:
     """The NSR of eq. 4 that gives the best PSNR against the truth (an oracle), searched in
     log10(NSR) from -5 to 0 by bounded scalar minimisation.
@@ -55,6 +64,8 @@ def best_nsr(
         Blur kernel (sums to 1).
     linear : bool
         Deconvolve in linear light (undo gamma 2.2, deconvolve, re-apply).
+    regulariser : str
+        The NSR's dependence on frequency (:func:`~blurloc.deconv.wiener_deconvolve`).
 
     Returns
     -------
@@ -63,20 +74,26 @@ def best_nsr(
     """
 
     def loss(log_nsr: float) -> float:
-        return -psnr(sharp, _restore(blurred, kernel, 10.0**log_nsr, linear), 1.0)
+        restored = _restore(blurred, kernel, 10.0**log_nsr, linear, regulariser)
+        return -psnr(sharp, restored, 1.0)
 
     found = minimize_scalar(loss, bounds=(-5.0, 0.0), method="bounded", options={"xatol": 0.05})
     return float(10.0**found.x), float(-found.fun)
 
 
 def _restore(
-    blurred: np.ndarray, kernel: np.ndarray, nsr: float | None, linear: bool
+    blurred: np.ndarray,
+    kernel: np.ndarray,
+    nsr: float | None,
+    linear: bool,
+    regulariser: str = "constant",
 ) -> np.ndarray:
     """Wiener (eq. 4) in gamma-encoded or linear intensities, clipped to [0, 1]."""
     if not linear:
-        return np.clip(wiener_deconvolve(blurred, kernel, nsr), 0.0, 1.0)
+        return np.clip(wiener_deconvolve(blurred, kernel, nsr, regulariser), 0.0, 1.0)
     light = srgb_to_linear(blurred)
-    return linear_to_srgb(np.clip(wiener_deconvolve(light, kernel, nsr), 0.0, 1.0))
+    restored = wiener_deconvolve(light, kernel, nsr, regulariser)
+    return linear_to_srgb(np.clip(restored, 0.0, 1.0))
 
 
 def fit_nsr_rule(
@@ -307,7 +324,7 @@ def oracle_rows(
     -------
     list of dict
         One row per frame and variant (plus ``blurred``): scene, sequence, frame, extent_px,
-        variant, kernel, space, nsr_source, nsr, psnr_db, ssim.
+        variant, kernel, space, nsr_source, regulariser, nsr, psnr_db, ssim.
     """
     config, seed = standin_settings(root)
     records = {(r["scene"], r["sequence"], r["frame"]): r for r in read_blur_metadata(root)}
@@ -331,20 +348,22 @@ def oracle_rows(
         base = {"scene": scene, "sequence": sequence.number, "frame": frame,
                 "extent_px": record["mean_px"]}  # fmt: skip
         rows.append({**base, "variant": "blurred", "kernel": "none", "space": "gamma",
-                     "nsr_source": "none", "nsr": 0.0, "psnr_db": psnr(sharp, blurred, 1.0),
+                     "nsr_source": "none", "regulariser": "none", "nsr": 0.0,
+                     "psnr_db": psnr(sharp, blurred, 1.0),
                      "ssim": ssim(sharp, blurred, 1.0)})  # fmt: skip
-        for name, (kernel_name, space, source) in VARIANTS.items():
+        for name, (kernel_name, space, source, regulariser) in VARIANTS.items():
             kernel, linear = kernels[kernel_name], space == "linear"
             if kernel is None:  # judged sharp: passed through
                 nsr, restored = 0.0, blurred
             elif source == "best":
-                nsr = best_nsr(blurred, sharp, kernel, linear)[0]
-                restored = _restore(blurred, kernel, nsr, linear)
+                nsr = best_nsr(blurred, sharp, kernel, linear, regulariser)[0]
+                restored = _restore(blurred, kernel, nsr, linear, regulariser)
             else:
                 nsr = estimate_nsr(srgb_to_linear(blurred) if linear else blurred)
                 restored = _restore(blurred, kernel, nsr, linear)
             rows.append({**base, "variant": name, "kernel": kernel_name, "space": space,
-                         "nsr_source": source, "nsr": nsr, "psnr_db": psnr(sharp, restored, 1.0),
+                         "nsr_source": source, "regulariser": regulariser, "nsr": nsr,
+                         "psnr_db": psnr(sharp, restored, 1.0),
                          "ssim": ssim(sharp, restored, 1.0)})  # fmt: skip
     return rows
 
@@ -362,7 +381,8 @@ def oracle_summary(rows: list[dict]) -> list[dict]:
                 if len(gains) > 1 else float("nan"))  # fmt: skip
         first = subset[0]
         table.append({"variant": variant, "kernel": first["kernel"], "space": first["space"],
-                      "nsr": first["nsr_source"], "frames": len(subset),
+                      "nsr": first["nsr_source"], "regulariser": first["regulariser"],
+                      "frames": len(subset),
                       "psnr_db": round(float(np.mean([r["psnr_db"] for r in subset])), 2),
                       "ssim": round(float(np.mean([r["ssim"] for r in subset])), 4),
                       "gain_db": round(float(gains.mean()), 2),

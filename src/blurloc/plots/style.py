@@ -36,6 +36,7 @@ PAPER_COLOUR = "#999999"
 METHOD_COLOURS = {
     "blurred": "#555555",
     "blind_wiener": "#1f77b4",
+    "blind_wiener_gradient": "#17becf",
     "skimage_wiener": "#ff7f0e",
     "unsupervised_wiener": "#2ca02c",
     "richardson_lucy": "#9467bd",
