@@ -17,6 +17,7 @@ from ..data.sevenscenes import read_image
 from ..deconv import (
     GRADIENT_WEIGHT_PER_NOISE,
     blind_kernel,
+    deblur_blind,
     estimate_nsr,
     inverse_filter,
     kernel_to_otf,
@@ -190,8 +191,11 @@ def deblurring_methods(
     ``blind_wiener`` is this package's eq. 4 with the NSR estimated from the noise;
     ``blind_wiener_gradient`` the same with the gradient regulariser (weight
     GRADIENT_WEIGHT_PER_NOISE times the noise sigma, :func:`~blurloc.deconv.wiener_deconvolve`);
-    scikit-image's ``wiener``, ``unsupervised_wiener`` and ``richardson_lucy`` are fed the same
-    estimated kernel; ``blurred`` returns its input.
+    ``blind_deblurring`` the package's blind deblurring as shipped
+    (:func:`~blurloc.deconv.deblur_blind`: its regulariser, and its gate, which passes through
+    frames whose restoration is not expected to gain); scikit-image's ``wiener``,
+    ``unsupervised_wiener`` and ``richardson_lucy`` are fed the same estimated kernel;
+    ``blurred`` returns its input.
 
     Parameters
     ----------
@@ -229,6 +233,7 @@ def deblurring_methods(
                 im, k, max(GRADIENT_WEIGHT_PER_NOISE * estimate_noise_sigma(im), 1e-6), "gradient"
             )
         ),
+        "blind_deblurring": skip_if_sharp(lambda im, k: deblur_blind(im)),
         "skimage_wiener": skip_if_sharp(
             lambda im, k: _per_channel(lambda c: wiener(c, k, skimage_balance), im)
         ),

@@ -246,7 +246,8 @@ def wiener_guides(frames: torch.Tensor) -> torch.Tensor:
     with :math:`\hat{c}_t` the straight line of the frame's blind estimate (length and angle,
     :func:`~blurloc.blur.estimate_motion_blur`; 1 px, the identity, for a frame without blur)
     and :math:`\mathrm{NSR}_t` from the frame's noise level (:func:`~blurloc.deconv.estimate_nsr`),
-    by :func:`~blurloc.deconv.deblur_blind` without its gate: every frame is deconvolved, and
+    by :func:`~blurloc.deconv.deblur_blind` without its gate and with eq. 4's constant NSR (the
+    guides that stored networks were trained on): every frame is deconvolved, and
     the network that reads the copy decides how far to trust it. Computed on the 8-bit frames
     (rounded from the input), without gradients.
 
@@ -269,7 +270,8 @@ def wiener_guides(frames: torch.Tensor) -> torch.Tensor:
     with torch.no_grad():
         images = frames.detach().float().movedim(-3, -1).add(1.0).mul(127.5).round().clamp(0, 255)
         images = images.to(torch.uint8).cpu().numpy()
-        restored = np.stack([deblur_blind(image, threshold=0.0, gated=False)
+        restored = np.stack([deblur_blind(image, threshold=0.0, gated=False,
+                                          regulariser="constant")
                              for image in images.reshape(-1, *images.shape[2:])])  # fmt: skip
         guides = torch.from_numpy(restored.reshape(images.shape)).float().div(127.5).sub(1.0)
     return guides.movedim(-1, -3).to(frames.device)

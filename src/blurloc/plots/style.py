@@ -37,6 +37,7 @@ METHOD_COLOURS = {
     "blurred": "#555555",
     "blind_wiener": "#1f77b4",
     "blind_wiener_gradient": "#17becf",
+    "blind_deblurring": "#8c564b",
     "skimage_wiener": "#ff7f0e",
     "unsupervised_wiener": "#2ca02c",
     "richardson_lucy": "#9467bd",
