@@ -36,7 +36,12 @@ from blurloc.deconv import (
     kernel_to_otf,
     wiener_deconvolve,
 )
-from blurloc.experiments.deblurring import boundary_comparison, filter_comparison, nsr_curve
+from blurloc.experiments.deblurring import (
+    boundary_comparison,
+    filter_comparison,
+    frame_changes,
+    nsr_curve,
+)
 from blurloc.experiments.wiener_oracles import frame_gains, gain_by_extent
 from blurloc.metrics import FREQUENCY_BAND_EDGES, band_squared_error, psnr, ssim
 
@@ -139,6 +144,25 @@ def test_blind_deblurring_with_the_gradient_regulariser() -> None:
     restored = deblur_blind(blurred, gated=False, regulariser="gradient")
     assert psnr(sharp, restored, 255.0) - psnr(sharp, blurred, 255.0) > 1.0
     assert not np.array_equal(restored, deblur_blind(blurred, gated=False, regulariser="constant"))
+
+
+def test_frame_changes_count_restored_frames_and_pair_by_frame() -> None:
+    def row(method: str, frame: int, value: float) -> dict:
+        return {"method": method, "scene": "chess", "sequence": 1, "frame": frame,
+                "psnr_db": value}  # fmt: skip
+
+    rows = [row("blurred", 0, 30.0), row("blurred", 1, 20.0), row("blurred", 2, 25.0),
+            row("gated", 1, 20.0), row("gated", 0, 31.0), row("gated", 2, 25.0),
+            row("ungated", 0, 29.0), row("ungated", 1, 22.0), row("ungated", 2, 24.0)]  # fmt: skip
+    gated, ungated = frame_changes(rows)
+    assert gated["method"] == "gated" and (gated["frames"], gated["restored"]) == (3, 1)
+    assert gated["mean_change_db"] == pytest.approx(1 / 3, abs=1e-3)
+    assert gated["median_restored_db"] == 1.0 and gated["restored_with_gain"] == 1
+    assert ungated["restored"] == 3 and ungated["median_restored_db"] == -1.0
+    assert ungated["restored_with_gain"] == 1
+    assert ungated["ci_low_db"] <= ungated["mean_change_db"] <= ungated["ci_high_db"]
+    with pytest.raises(ValueError, match="no blurred row"):
+        frame_changes([row("blurred", 0, 30.0), row("gated", 5, 30.0)])
 
 
 def test_noise_estimate() -> None:
