@@ -1,6 +1,8 @@
 """Does telling the video network each frame's blur make it deblur? The recurrent network
 (eq. 8-11) as shipped, beside the same network conditioned on each frame's blur
-(``blur_condition``): once on the package's blind estimate, once on the true blur.
+(``blur_condition``): once on the package's blind estimate, once on the true blur; and beside
+the network that reads each frame's blind Wiener copy (``wiener_input``) made with the gradient
+regulariser.
 
     python benchmarks/deblur_conditioned.py --root data/standin [--seeds 0 1 2]
         [--steps 1200] [--train-frames 200] [--photo-videos 14] [--test-frames 50]
@@ -17,7 +19,13 @@ scale and shift its features. Arms, one network each per seed, at one budget:
   line, :func:`~blurloc.blur.estimate_motion_blur`), in training and in use: the method;
 - ``told``: ``blur_condition``, trained and scored with each frame's true line (an oracle: the
   upper bound of what conditioning can give; validation, which picks the kept network, reads
-  blind estimates).
+  blind estimates);
+- ``wiener``: ``wiener_input`` with ``wiener_regulariser="gradient"``: the encoder reads each
+  frame beside its blind Wiener deconvolution by the estimated line, with the NSR that keeps the
+  mean (:func:`~blurloc.models.video_deblur.wiener_guides`): a deconvolution step before the
+  recurrent refinement, told nothing.
+
+``--arms`` picks them (default: the first three; ``plain`` always runs).
 
 Training mix, without any sensor noise (the test of blur removal, not of denoising): the first
 ``--train-frames`` frames of every training sequence of the stand-in under ``root``, each sharp
@@ -90,6 +98,7 @@ ARMS = {
     "plain": (VideoDeblurConfig(), False),
     "estimated": (VideoDeblurConfig(blur_condition=True), False),
     "told": (VideoDeblurConfig(blur_condition=True), True),
+    "wiener": (VideoDeblurConfig(wiener_input=True, wiener_regulariser="gradient"), False),
 }
 #: Sub-frames of a photo video (:func:`~blurloc.experiments.photo_video.photo_video`'s default).
 SUBFRAMES = 9
@@ -226,7 +235,8 @@ def main() -> None:
     parser.add_argument("--photo-videos", type=int, default=14)
     parser.add_argument("--test-frames", type=int, default=50)
     parser.add_argument("--photo-frames", type=int, default=8)
-    parser.add_argument("--arms", nargs="+", choices=list(ARMS), default=list(ARMS),
+    parser.add_argument("--arms", nargs="+", choices=list(ARMS),
+                        default=["plain", "estimated", "told"],
                         help="the arms to run (plain always)")  # fmt: skip
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", default="build/conditioned", help="training runs")

@@ -34,6 +34,30 @@ def test_wiener_guides_undo_a_line_blur_of_a_photograph() -> None:
     assert psnr(sharp[0], guides[0], 255.0) > psnr(sharp[0], blurred[0], 255.0) + 1.0
 
 
+def test_wiener_guides_with_the_gradient_regulariser_undo_the_blur() -> None:
+    blurred, sharp = line_blurred_video()
+    frames = to_tensor(blurred)[None]
+    gradient = frames_from_tensor(wiener_guides(frames, "gradient")[0])
+    constant = frames_from_tensor(wiener_guides(frames)[0])
+    assert psnr(sharp[0], gradient[0], 255.0) > psnr(sharp[0], blurred[0], 255.0) + 1.0
+    assert not np.array_equal(gradient, constant)
+
+
+def test_the_network_reads_the_copy_of_its_regulariser() -> None:
+    torch.manual_seed(0)
+    network = VideoDeblurNet(VideoDeblurConfig(channels=8, hidden=4, blocks=1, wiener_input=True,
+                                               wiener_regulariser="gradient")).eval()  # fmt: skip
+    frames = to_tensor(line_blurred_video()[0][:, :40, :48])[None]
+    with torch.no_grad():
+        computed, _ = network(frames)
+        given, _ = network(frames, guides=wiener_guides(frames, "gradient"))
+        other, _ = network(frames, guides=wiener_guides(frames, "constant"))
+    torch.testing.assert_close(computed, given)
+    assert (other - given).abs().max() > 1e-5
+    with pytest.raises(ValueError, match="wiener_regulariser must be one of"):
+        VideoDeblurConfig(wiener_regulariser="laplacian")
+
+
 def test_wiener_input_network_reads_the_copy_and_keeps_the_frame_size() -> None:
     torch.manual_seed(0)
     network = VideoDeblurNet(TINY).eval()
@@ -53,8 +77,9 @@ def test_wiener_input_network_reads_the_copy_and_keeps_the_frame_size() -> None:
 
 def test_networks_stored_without_the_switch_read_the_frames_alone() -> None:
     settings = TINY.as_dict()
-    del settings["wiener_input"]
+    del settings["wiener_input"], settings["wiener_regulariser"]
     assert not VideoDeblurConfig.from_stored(settings).wiener_input
+    assert VideoDeblurConfig.from_stored(settings).wiener_regulariser == "constant"
     assert not VideoDeblurConfig().wiener_input
     assert not load_video_deblur(DEFAULT_CHECKPOINT).config.wiener_input
 

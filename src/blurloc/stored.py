@@ -24,12 +24,14 @@ from typing import Any
 #: The switches of the video network added after its first checkpoints, with the value the
 #: checkpoints stored before them were trained with (the networks stored before
 #: ``bounded_state`` existed have unbounded states; those stored before ``wiener_input`` read
-#: the blurred frames alone; those stored before ``blur_condition`` are told no blur).
+#: the blurred frames alone; those stored before ``blur_condition`` are told no blur; those
+#: stored before ``wiener_regulariser`` read eq. 4's Wiener copies).
 VIDEO_SWITCHES_ADDED = {
     "align": False,
     "bounded_state": False,
     "wiener_input": False,
     "blur_condition": False,
+    "wiener_regulariser": "constant",
 }
 
 

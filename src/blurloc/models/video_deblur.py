@@ -41,7 +41,7 @@ import torch.nn.functional as F
 from torch import nn
 
 from ..blur import estimate_motion_blur
-from ..deconv import deblur_blind
+from ..deconv import REGULARISERS, deblur_blind
 from ..stored import VIDEO_SWITCHES_ADDED, complete
 
 
@@ -51,9 +51,10 @@ class VideoDeblurConfig:
     coarser than the frame the recurrent features are; ``align`` moves the recurrent states by
     the frame-to-frame translation (:func:`frame_translation`); ``bounded_state`` passes the
     hidden and auxiliary states (eq. 8-9) through tanh; ``wiener_input`` gives the network each
-    frame's blind Wiener deconvolution (:func:`wiener_guides`) beside the frame;
-    ``blur_condition`` modulates the features by each frame's blind blur estimate
-    (:func:`blur_descriptors`)."""
+    frame's blind Wiener deconvolution (:func:`wiener_guides`) beside the frame, restored with
+    ``wiener_regulariser`` (:func:`~blurloc.deconv.wiener_deconvolve`: eq. 4's ``"constant"``
+    NSR or the ``"gradient"`` regulariser); ``blur_condition`` modulates the features by each
+    frame's blind blur estimate (:func:`blur_descriptors`)."""
 
     channels: int = 32
     hidden: int = 24
@@ -66,10 +67,14 @@ class VideoDeblurConfig:
     bounded_state: bool = True
     wiener_input: bool = False
     blur_condition: bool = False
+    wiener_regulariser: str = "constant"
 
     def __post_init__(self) -> None:
         if self.feature_stride not in (2, 4):
             raise ValueError(f"feature_stride must be 2 or 4, got {self.feature_stride}")
+        if self.wiener_regulariser not in REGULARISERS:
+            raise ValueError(f"wiener_regulariser must be one of {REGULARISERS}, "
+                             f"got {self.wiener_regulariser!r}")  # fmt: skip
 
     def as_dict(self) -> dict:
         """The settings as a plain dict (stored in checkpoints).
@@ -235,7 +240,7 @@ def shift_features(features: torch.Tensor, shift_px: torch.Tensor) -> torch.Tens
     return F.grid_sample(features, grid, padding_mode="border", align_corners=False)
 
 
-def wiener_guides(frames: torch.Tensor) -> torch.Tensor:
+def wiener_guides(frames: torch.Tensor, regulariser: str = "constant") -> torch.Tensor:
     r"""Each frame deconvolved by the Wiener filter (eq. 4) with its own blind blur estimate.
 
     .. math::
@@ -246,8 +251,10 @@ def wiener_guides(frames: torch.Tensor) -> torch.Tensor:
     with :math:`\hat{c}_t` the straight line of the frame's blind estimate (length and angle,
     :func:`~blurloc.blur.estimate_motion_blur`; 1 px, the identity, for a frame without blur)
     and :math:`\mathrm{NSR}_t` from the frame's noise level (:func:`~blurloc.deconv.estimate_nsr`),
-    by :func:`~blurloc.deconv.deblur_blind` without its gate and with eq. 4's constant NSR (the
-    guides that stored networks were trained on): every frame is deconvolved, and
+    by :func:`~blurloc.deconv.deblur_blind` without its gate, with ``regulariser`` (eq. 4's
+    constant NSR by default, the guides that networks stored before the choice existed were
+    trained on; with ``"gradient"`` the NSR is :math:`\lambda |D(f)|^2`): every frame is
+    deconvolved, and
     the network that reads the copy decides how far to trust it. Computed on the 8-bit frames
     (rounded from the input), without gradients.
 
@@ -255,6 +262,8 @@ def wiener_guides(frames: torch.Tensor) -> torch.Tensor:
     ----------
     frames : torch.Tensor
         (N, T, 3, H, W) blurred frames in [-1, 1]; H and W at least 16.
+    regulariser : str
+        ``"constant"`` (eq. 4) or ``"gradient"`` (:func:`~blurloc.deconv.wiener_deconvolve`).
 
     Returns
     -------
@@ -271,7 +280,7 @@ def wiener_guides(frames: torch.Tensor) -> torch.Tensor:
         images = frames.detach().float().movedim(-3, -1).add(1.0).mul(127.5).round().clamp(0, 255)
         images = images.to(torch.uint8).cpu().numpy()
         restored = np.stack([deblur_blind(image, threshold=0.0, gated=False,
-                                          regulariser="constant")
+                                          regulariser=regulariser)
                              for image in images.reshape(-1, *images.shape[2:])])  # fmt: skip
         guides = torch.from_numpy(restored.reshape(images.shape)).float().div(127.5).sub(1.0)
     return guides.movedim(-1, -3).to(frames.device)
@@ -487,7 +496,8 @@ class VideoDeblurNet(nn.Module):
         config = self.config
         stacked = frames
         if config.wiener_input:
-            guides = wiener_guides(frames) if guides is None else guides
+            if guides is None:
+                guides = wiener_guides(frames, config.wiener_regulariser)
             if guides.shape != frames.shape:
                 raise ValueError(f"guides must have the frames' shape {tuple(frames.shape)}, "
                                  f"got {tuple(guides.shape)}")  # fmt: skip

@@ -158,7 +158,9 @@ def _sample_clips(
 _MIRRORED = np.float32([1.0, 1.0, -1.0])
 
 
-def with_wiener_guides(videos: list[tuple[np.ndarray, ...]]) -> list[tuple[np.ndarray, ...]]:
+def with_wiener_guides(
+    videos: list[tuple[np.ndarray, ...]], regulariser: str = "constant"
+) -> list[tuple[np.ndarray, ...]]:
     """Training videos with the Wiener copy of every blurred frame, computed once on whole
     frames (:func:`~blurloc.models.video_deblur.wiener_guides`), so that a crop of a clip reads
     the copy its whole frame gives, as the network computes it at inference.
@@ -167,13 +169,15 @@ def with_wiener_guides(videos: list[tuple[np.ndarray, ...]]) -> list[tuple[np.nd
     ----------
     videos : list of (blurred, sharp, ...)
         uint8 (T, H, W, 3) pairs, possibly with more parts.
+    regulariser : str
+        The copies' regulariser (``VideoDeblurConfig.wiener_regulariser``).
 
     Returns
     -------
     list of (blurred, sharp, ..., guides)
         ``guides`` uint8 (T, H, W, 3), the Wiener copies of ``blurred``, appended.
     """
-    return [(*video, frames_from_tensor(wiener_guides(to_tensor(video[0])[None])[0]))
+    return [(*video, frames_from_tensor(wiener_guides(to_tensor(video[0])[None], regulariser)[0]))
             for video in videos]  # fmt: skip
 
 
@@ -312,7 +316,7 @@ def _train(
     if config.model.blur_condition:  # first: every video then holds its descriptors third
         videos = with_blur_descriptors(videos)
     if config.model.wiener_input:
-        videos = with_wiener_guides(videos)
+        videos = with_wiener_guides(videos, config.model.wiener_regulariser)
     losses, started = [], time.perf_counter() - elapsed
     bar = tqdm(total=config.steps, initial=step, disable=not progress, desc="video deblur")
     first_step = step
