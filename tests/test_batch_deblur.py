@@ -13,7 +13,8 @@ import skimage.data
 
 from blurloc.batch_deblur import available_cores, deblur_files
 from blurloc.blur import blur_image, motion_kernel
-from blurloc.deconv import _even_dft_size, estimate_nsr
+from blurloc.deconv import _even_dft_size, deblur_blind, estimate_nsr
+from blurloc.files import read_image_file
 
 
 def reference_wiener(image: np.ndarray, kernel: np.ndarray, nsr: float) -> np.ndarray:
@@ -65,6 +66,18 @@ def test_pool_gives_the_pixels_of_one_process_and_of_eq_4(folder: Path, tmp_path
         expected = reference_wiener(image, kernel, estimate_nsr(image))
         assert np.abs(pooled.astype(int) - expected).max() <= 1  # float32 vs float64: one step
         assert (pooled != expected).mean() < 1e-3
+
+
+def test_blind_files_are_restored_as_blind_deblurring_restores_them(tmp_path: Path) -> None:
+    sharp = cv2.resize(skimage.data.coffee(), (320, 240), interpolation=cv2.INTER_AREA)
+    blurred = np.round(np.clip(blur_image(sharp / 255.0, motion_kernel(15, 30)), 0, 1) * 255)
+    path = tmp_path / "blurred.png"
+    cv2.imwrite(str(path), cv2.cvtColor(blurred.astype(np.uint8), cv2.COLOR_RGB2BGR))
+    list(deblur_files([(path, tmp_path / "out.png")], workers=1))
+    image = read_image_file(path)[0]
+    expected = deblur_blind(image)
+    assert not np.array_equal(expected, image)  # the gate restores this frame
+    np.testing.assert_array_equal(read_image_file(tmp_path / "out.png")[0], expected)
 
 
 def test_blind_pool_equals_one_process(folder: Path, tmp_path: Path) -> None:

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from .blur import check_kernel, motion_kernel
-from .deconv import blind_kernel, wiener_deconvolve
+from .deconv import BLIND_REGULARISER, blind_kernel, blind_nsr, wiener_deconvolve
 from .files import atomic_path, read_image_file, write_image_file
 from .processes import watch_parent
 
@@ -67,13 +67,16 @@ def deblur_file(
         The image to read and the file to write (see :func:`~blurloc.files.write_image_file`).
     kernel : numpy.ndarray, optional
         A known blur kernel: Wiener deconvolution (eq. 4) with it. Without ``kernel`` and
-        ``line``, blind deblurring (:func:`~blurloc.deconv.deblur_blind`, gated); a frame it
-        passes through is written as a byte copy of ``path_in`` where both have one suffix.
+        ``line``, blind deblurring as :func:`~blurloc.deconv.deblur_blind` does it (gated, its
+        regulariser); a frame it passes through is written as a byte copy of ``path_in`` where
+        both have one suffix.
     line : tuple of float, optional
         (length px, angle degrees) of a known linear blur, used when ``kernel`` is None; the
         kernel is made after ``check`` has accepted the frame.
     nsr : float, optional
-        The NSR of eq. 4; estimated from each frame when None.
+        The NSR of eq. 4 (blind: the weight of blind deblurring's regulariser); estimated from
+        each frame when None (:func:`~blurloc.deconv.estimate_nsr`,
+        :func:`~blurloc.deconv.blind_nsr`).
     check : callable, optional
         ``check(shape, path_in)``, called first; it raises a ValueError to refuse the frame.
 
@@ -93,17 +96,20 @@ def deblur_file(
         check(image.shape, path_in)
     if kernel is None and line is not None:
         kernel = motion_kernel(*line)
+    regulariser = "constant"  # a known kernel: eq. 4
     try:
         if kernel is None:
-            kernel = blind_kernel(image, gated=True)
+            kernel, regulariser = blind_kernel(image, gated=True), BLIND_REGULARISER
             if kernel is None and path_in.suffix.lower() == path_out.suffix.lower():
                 with atomic_path(path_out) as temporary:  # passed through: the same file
                     shutil.copyfile(path_in, temporary)
                 return []
+            if kernel is not None and nsr is None:
+                nsr = blind_nsr(image, regulariser)
         if kernel is None:
             restored = image
         else:
-            restored = wiener_deconvolve(image, check_kernel(kernel, image.shape), nsr)
+            restored = wiener_deconvolve(image, check_kernel(kernel, image.shape), nsr, regulariser)
     except ValueError as error:
         raise ValueError(f"{path_in}: {error}") from error
     return write_image_file(path_out, restored, alpha)

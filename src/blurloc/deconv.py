@@ -503,6 +503,50 @@ def _blind_estimate(
     return estimate.kernel(), noise_sigma
 
 
+def blind_nsr(
+    image: np.ndarray, regulariser: str = BLIND_REGULARISER, noise_sigma: float | None = None
+) -> float:
+    r"""The NSR that blind deblurring restores an image with: eq. 4's constant NSR
+    (:func:`estimate_nsr`) or the gradient regulariser's weight.
+
+    .. math::
+
+        \lambda = \max(g\, \sigma, 10^{-6})
+
+    for the gradient regulariser, with :math:`g` = GRADIENT_WEIGHT_PER_NOISE and :math:`\sigma`
+    the image's noise sigma (:func:`~blurloc.blur.estimate_noise_sigma`).
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W) or (H, W, 3) image, uint8 or float in [0, 1].
+    regulariser : str
+        One of REGULARISERS; default BLIND_REGULARISER.
+    noise_sigma : float, optional
+        The image's noise sigma, when already measured.
+
+    Returns
+    -------
+    float
+        The NSR (constant) or weight (gradient), > 0.
+
+    Raises
+    ------
+    ValueError
+        If ``regulariser`` is not one of REGULARISERS.
+
+    References
+    ----------
+    Immerkær, "Fast noise variance estimation", CVIU 64(2), 1996. The paper's eq. 4.
+    """
+    if regulariser not in REGULARISERS:
+        raise ValueError(f"regulariser must be one of {REGULARISERS}, got {regulariser!r}")
+    sigma = estimate_noise_sigma(image) if noise_sigma is None else noise_sigma
+    if regulariser == "constant":
+        return _nsr_from_noise(sigma)
+    return float(max(GRADIENT_WEIGHT_PER_NOISE * sigma, 1e-6))
+
+
 def deblur_blind(
     image: np.ndarray,
     nsr: float | None = None,
@@ -522,7 +566,7 @@ def deblur_blind(
 
     with the constant NSR of :func:`estimate_nsr`, or, for the gradient regulariser,
     :math:`\mathrm{NSR}(f) = \lambda |D(f)|^2` with :math:`\lambda` =
-    GRADIENT_WEIGHT_PER_NOISE times the image's noise sigma.
+    GRADIENT_WEIGHT_PER_NOISE times the image's noise sigma (:func:`blind_nsr`).
 
     An image judged sharp, or (with ``gated``, the default) one whose restoration is not
     expected to gain (:func:`blind_restoration_expected_to_gain`), is returned unchanged (as a
@@ -533,8 +577,8 @@ def deblur_blind(
     image : numpy.ndarray
         (H, W) or (H, W, 3) image, uint8 or float in [0, 1]; short side >= 16 px.
     nsr : float, optional
-        The constant 1/SNR, or the gradient regulariser's weight (> 0); default from the image's
-        noise (see above).
+        The constant 1/SNR, or the gradient regulariser's weight (> 0); default
+        :func:`blind_nsr` of the image.
     threshold : float
         Blur length (px at the analysis scale, as :func:`~blurloc.blur.blur_score`) above which
         the image counts as blurred.
@@ -560,9 +604,6 @@ def deblur_blind(
     kernel, noise_sigma = _blind_estimate(image, threshold, gated)
     if kernel is None:
         return image.copy()
-    if nsr is None:
-        if noise_sigma is None:  # not measured on the way
-            noise_sigma = estimate_noise_sigma(image)
-        nsr = (_nsr_from_noise(noise_sigma) if regulariser == "constant"
-               else max(GRADIENT_WEIGHT_PER_NOISE * noise_sigma, 1e-6))  # fmt: skip
+    if nsr is None:  # the noise measured on the way is not measured twice
+        nsr = blind_nsr(image, regulariser, noise_sigma)
     return wiener_deconvolve(image, kernel, nsr, regulariser)

@@ -221,7 +221,9 @@ def add_deblur_parser(commands: argparse._SubParsersAction) -> None:
     deblur.add_argument("--kernel", help="blur kernel as .npy or a gray image (normalised)")
     deblur.add_argument("--length", type=float, help="linear motion blur length, px")
     deblur.add_argument("--angle", type=float, help="its angle, degrees CCW from horizontal")
-    deblur.add_argument("--nsr", type=float, help="noise-to-signal ratio (default: estimated)")
+    deblur.add_argument("--nsr", type=float,
+                        help="noise-to-signal ratio of eq. 4; blind: the weight of blind "
+                             "deblurring's regulariser (default: estimated)")  # fmt: skip
     deblur.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
     deblur.set_defaults(handler=_deblur)
 
