@@ -297,8 +297,8 @@ def wiener_deconvolve(
         (h, w) PSF c (normalised to sum 1 here), no larger than the image.
     nsr : float, optional
         The constant 1/SNR, or :math:`\lambda` for the gradient regulariser (> 0); default, for
-        the constant NSR only, :func:`estimate_nsr` of the image (no rule is fitted for
-        :math:`\lambda`).
+        the constant NSR only, :func:`estimate_nsr` of the image (:func:`blind_nsr` gives the
+        :math:`\lambda` that blind deblurring uses).
     regulariser : str
         ``"constant"`` or ``"gradient"`` (REGULARISERS).
 
@@ -326,7 +326,10 @@ def wiener_deconvolve(
         raise ValueError(f"regulariser must be one of {REGULARISERS}, got {regulariser!r}")
     image = check_image(image)
     if nsr is None and regulariser == "gradient":
-        raise ValueError("the gradient regulariser needs its weight: pass nsr")
+        raise ValueError(
+            "the gradient regulariser needs its weight: pass nsr (blind_nsr gives "
+            "blind deblurring's)"
+        )
     if nsr is None:
         nsr = estimate_nsr(image)
     if not np.isfinite(nsr) or nsr <= 0:
