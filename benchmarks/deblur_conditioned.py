@@ -20,7 +20,7 @@ scale and shift its features. Arms, one network each per seed, at one budget:
 - ``told``: ``blur_condition``, trained and scored with each frame's true line (an oracle: the
   upper bound of what conditioning can give; validation, which picks the kept network, reads
   blind estimates);
-- ``wiener``: ``wiener_input`` with ``wiener_regulariser="gradient"``: the encoder reads each
+- ``wiener``: ``wiener_input`` with ``wiener_gradient``: the encoder reads each
   frame beside its blind Wiener deconvolution by the estimated line, with the NSR that keeps the
   mean (:func:`~blurloc.models.video_deblur.wiener_guides`): a deconvolution step before the
   recurrent refinement, told nothing.
@@ -98,7 +98,7 @@ ARMS = {
     "plain": (VideoDeblurConfig(), False),
     "estimated": (VideoDeblurConfig(blur_condition=True), False),
     "told": (VideoDeblurConfig(blur_condition=True), True),
-    "wiener": (VideoDeblurConfig(wiener_input=True, wiener_regulariser="gradient"), False),
+    "wiener": (VideoDeblurConfig(wiener_input=True, wiener_gradient=True), False),
 }
 #: Sub-frames of a photo video (:func:`~blurloc.experiments.photo_video.photo_video`'s default).
 SUBFRAMES = 9

@@ -143,6 +143,22 @@ def test_a_checkpoint_made_before_a_switch_existed_loads_with_it_off(tmp_path: P
         load_video_deblur(tmp_path / "odd.pt")
 
 
+def test_a_run_stored_before_the_added_switches_is_reused(quick_root: Path, tmp_path: Path) -> None:
+    splits = load_video_splits(quick_root, with_test=False)
+    # every switch as the runs stored before it were made
+    model = VideoDeblurConfig(channels=8, hidden=4, blocks=1, **VIDEO_SWITCHES_ADDED)
+    config = VideoTrainConfig(steps=4, batch=2, clip_frames=3, crop=32, validate_every=2,
+                              threads=1, model=model)  # fmt: skip
+    first = train_video_deblur(splits, tmp_path, config, progress=False, stop_after=1)
+    for name in ("last.pt", "best.pt"):  # as a version without the switches stored them
+        payload = torch.load(tmp_path / name, map_location="cpu", weights_only=False)
+        for key in VIDEO_SWITCHES_ADDED:
+            del payload["train_config"]["model"][key], payload["model_config"][key]
+        torch.save(payload, tmp_path / name)
+    resumed = train_video_deblur(splits, tmp_path, config, progress=False)  # not refused
+    assert first["step"] == [2] and resumed["step"] == [2, 4]
+
+
 @pytest.mark.parametrize("shift", [(3, 0), (0, -5), (7, 4), (-2, -9)])
 def test_frame_translation_finds_the_image_shift_between_noisy_blurred_frames(
     shift: tuple[int, int],

@@ -25,13 +25,13 @@ from typing import Any
 #: checkpoints stored before them were trained with (the networks stored before
 #: ``bounded_state`` existed have unbounded states; those stored before ``wiener_input`` read
 #: the blurred frames alone; those stored before ``blur_condition`` are told no blur; those
-#: stored before ``wiener_regulariser`` read eq. 4's Wiener copies).
+#: stored before ``wiener_gradient`` read eq. 4's Wiener copies).
 VIDEO_SWITCHES_ADDED = {
     "align": False,
     "bounded_state": False,
     "wiener_input": False,
     "blur_condition": False,
-    "wiener_regulariser": "constant",
+    "wiener_gradient": False,
 }
 
 

@@ -41,7 +41,7 @@ import torch.nn.functional as F
 from torch import nn
 
 from ..blur import estimate_motion_blur
-from ..deconv import REGULARISERS, deblur_blind
+from ..deconv import deblur_blind
 from ..stored import VIDEO_SWITCHES_ADDED, complete
 
 
@@ -51,9 +51,9 @@ class VideoDeblurConfig:
     coarser than the frame the recurrent features are; ``align`` moves the recurrent states by
     the frame-to-frame translation (:func:`frame_translation`); ``bounded_state`` passes the
     hidden and auxiliary states (eq. 8-9) through tanh; ``wiener_input`` gives the network each
-    frame's blind Wiener deconvolution (:func:`wiener_guides`) beside the frame, restored with
-    ``wiener_regulariser`` (:func:`~blurloc.deconv.wiener_deconvolve`: eq. 4's ``"constant"``
-    NSR or the ``"gradient"`` regulariser); ``blur_condition`` modulates the features by each
+    frame's blind Wiener deconvolution (:func:`wiener_guides`) beside the frame, by eq. 4's
+    constant NSR or, with ``wiener_gradient``, by the gradient regulariser
+    (:func:`~blurloc.deconv.wiener_deconvolve`); ``blur_condition`` modulates the features by each
     frame's blind blur estimate (:func:`blur_descriptors`)."""
 
     channels: int = 32
@@ -67,14 +67,11 @@ class VideoDeblurConfig:
     bounded_state: bool = True
     wiener_input: bool = False
     blur_condition: bool = False
-    wiener_regulariser: str = "constant"
+    wiener_gradient: bool = False
 
     def __post_init__(self) -> None:
         if self.feature_stride not in (2, 4):
             raise ValueError(f"feature_stride must be 2 or 4, got {self.feature_stride}")
-        if self.wiener_regulariser not in REGULARISERS:
-            raise ValueError(f"wiener_regulariser must be one of {REGULARISERS}, "
-                             f"got {self.wiener_regulariser!r}")  # fmt: skip
 
     def as_dict(self) -> dict:
         """The settings as a plain dict (stored in checkpoints).
@@ -238,6 +235,12 @@ def shift_features(features: torch.Tensor, shift_px: torch.Tensor) -> torch.Tens
     theta[:, 1, 2] = -2.0 * shift_px[:, 1] / height
     grid = F.affine_grid(theta, list(features.shape), align_corners=False)
     return F.grid_sample(features, grid, padding_mode="border", align_corners=False)
+
+
+def guide_regulariser(config: VideoDeblurConfig) -> str:
+    """The regulariser of the Wiener copies a network reads (:func:`wiener_guides`):
+    ``"gradient"`` with ``config.wiener_gradient``, else eq. 4's ``"constant"``."""
+    return "gradient" if config.wiener_gradient else "constant"
 
 
 def wiener_guides(frames: torch.Tensor, regulariser: str = "constant") -> torch.Tensor:
@@ -497,7 +500,7 @@ class VideoDeblurNet(nn.Module):
         stacked = frames
         if config.wiener_input:
             if guides is None:
-                guides = wiener_guides(frames, config.wiener_regulariser)
+                guides = wiener_guides(frames, guide_regulariser(config))
             if guides.shape != frames.shape:
                 raise ValueError(f"guides must have the frames' shape {tuple(frames.shape)}, "
                                  f"got {tuple(guides.shape)}")  # fmt: skip

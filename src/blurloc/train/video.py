@@ -25,7 +25,12 @@ from ..config import seed_everything
 from ..data.sevenscenes import SequenceFrames, list_scenes, load_split, read_image
 from ..inference import frames_from_tensor, restore_sequence, to_tensor
 from ..metrics import mean_frame_psnr
-from ..models.video_deblur import VideoDeblurNet, blur_descriptors, wiener_guides
+from ..models.video_deblur import (
+    VideoDeblurNet,
+    blur_descriptors,
+    guide_regulariser,
+    wiener_guides,
+)
 from .config import VideoTrainConfig
 from .loop import (
     choose_device,
@@ -170,7 +175,7 @@ def with_wiener_guides(
     videos : list of (blurred, sharp, ...)
         uint8 (T, H, W, 3) pairs, possibly with more parts.
     regulariser : str
-        The copies' regulariser (``VideoDeblurConfig.wiener_regulariser``).
+        The copies' regulariser (:func:`~blurloc.models.video_deblur.guide_regulariser`).
 
     Returns
     -------
@@ -316,7 +321,7 @@ def _train(
     if config.model.blur_condition:  # first: every video then holds its descriptors third
         videos = with_blur_descriptors(videos)
     if config.model.wiener_input:
-        videos = with_wiener_guides(videos, config.model.wiener_regulariser)
+        videos = with_wiener_guides(videos, guide_regulariser(config.model))
     losses, started = [], time.perf_counter() - elapsed
     bar = tqdm(total=config.steps, initial=step, disable=not progress, desc="video deblur")
     first_step = step
