@@ -284,7 +284,7 @@ def main() -> None:
             print(name, rounded)
 
     network_rows = []
-    for arm in [arm for arm in ("plain", "estimated") if arm in arms]:
+    for arm in [arm for arm in ("plain", "estimated", "wiener") if arm in arms]:
         model = load_video_deblur(checkpoints[(arm, args.seeds[0])])
         network_rows.append({"arm": arm, "parameters": parameter_count(model),
                              "frames_per_s_2_threads": round(throughput(model), 1)})  # fmt: skip
