@@ -53,8 +53,8 @@ videos; each conditioned arm minus ``plain``, paired by seed, with its 95 % t-in
 Writes ``<out-dir>/<stem>.md`` (``--stem``, default ``deblur_conditioned``) with
 ``<stem>.csv`` (gain per test set, arm and seed), ``-versus_plain.csv`` (the paired
 differences), ``-videos.csv`` (each video's gain, seeds averaged) and ``-network.csv``
-(parameters and frames per second at 160x120, blur estimate included). Finished trainings in
-``--out`` are reused.
+(parameters and frames per second at 160x120, blur estimate and Wiener copies included).
+Finished trainings in ``--out`` are reused.
 """
 
 from __future__ import annotations
