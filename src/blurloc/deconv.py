@@ -32,9 +32,10 @@ NSR_EXPONENT = 0.72
 
 #: How the NSR of eq. 4 depends on frequency (:func:`wiener_deconvolve`): ``"constant"``, one
 #: NSR for every frequency, as eq. 4 is printed; ``"gradient"``, NSR(f) = lambda |D(f)|^2 with
-#: |D(f)|^2 the squared response of the image's horizontal and vertical differences, the Wiener
-#: filter for an image whose power spectrum falls as 1/|f|^2 (a natural image's), which leaves
-#: the mean (f = 0) untouched where a constant NSR scales it by 1 / (1 + NSR).
+#: |D(f)|^2 the squared response of the image's horizontal and vertical differences: a Tikhonov
+#: filter with a first-difference penalty, the Wiener filter for a prior power spectrum
+#: proportional to 1/|D(f)|^2 (about 1/|f|^2, a natural image's, at low frequencies), which
+#: leaves the mean (f = 0) untouched where a constant NSR scales it by 1 / (1 + NSR).
 REGULARISERS = ("constant", "gradient")
 #: Blind deblurring (:func:`deblur_blind`) restores with BLIND_REGULARISER; for the gradient
 #: regulariser its weight is lambda = GRADIENT_WEIGHT_PER_NOISE * sigma (sigma: the frame's noise,
@@ -285,7 +286,9 @@ def wiener_deconvolve(
     ``regulariser="constant"`` (eq. 4 as the paper prints it) it is one number, so the mean
     intensity, where the kernel's response is 1, is scaled by 1 / (1 + NSR). With
     ``"gradient"`` it is :math:`\lambda |D(f)|^2` (:func:`difference_power`): the NSR of an
-    image whose power spectrum falls as :math:`1/|f|^2`, zero at the mean, which is then kept.
+    image whose power spectrum is proportional to :math:`1/|D(f)|^2` (about :math:`1/|f|^2` at
+    low frequencies; a Tikhonov filter with a first-difference penalty), zero at the mean, which
+    is then kept.
     The image is extended by mirror reflection (by the kernel size plus 8 px) before the DFT and
     cropped back, so that its non-matching opposite edges do not ring.
 
@@ -557,7 +560,8 @@ def deblur_blind(
     gated: bool = True,
     regulariser: str = BLIND_REGULARISER,
 ) -> np.ndarray:
-    r"""Blind deblurring of one image: detect the blur, estimate it, undo it by eq. 4.
+    r"""Blind deblurring of one image: detect the blur, estimate it, undo it by Wiener
+    deconvolution (eq. 4, with the NSR that BLIND_REGULARISER makes depend on frequency).
 
     :func:`blind_kernel` detects the blur and estimates its length and angle from the spectrum;
     :func:`wiener_deconvolve` restores the image with that kernel:
