@@ -20,8 +20,10 @@ from blurloc.experiments.blur_estimation import (
 )
 from blurloc.experiments.estimation import PHOTOS, crop_photo, photo_crops
 from blurloc.experiments.wiener_oracles import (
+    MEAN_KEPT,
     SKIMAGE_BALANCES,
     VARIANTS,
+    _restore,
     exposure_kernel,
     fit_nsr_rule,
     oracle_rows,
@@ -133,3 +135,15 @@ def test_length_training_examples(quick_root: Path) -> None:
     photo_features, photo_extents = photo_training_set(count=12, seed=1)
     assert photo_features.shape == (12, 78) and (photo_extents >= 0).all()
     assert 0 < (photo_extents == 0).sum() < 12 and photo_extents.max() <= 25.0
+
+
+def test_the_mean_kept_variant_is_eq_4_with_the_blurred_frames_mean() -> None:
+    rng = np.random.default_rng(1)
+    blurred = 0.3 + 0.4 * rng.random((48, 64, 3))  # no clipping: restorations stay in [0, 1]
+    kernel = np.full((1, 5), 0.2)
+    eq4 = _restore(blurred, kernel, 0.2, False)
+    kept = _restore(blurred, kernel, 0.2, False, MEAN_KEPT)
+    assert abs(eq4.mean() - blurred.mean()) > 0.05  # a constant NSR of 0.2 darkens by a sixth
+    np.testing.assert_allclose(kept.mean(axis=(0, 1)), blurred.mean(axis=(0, 1)), atol=1e-6)
+    np.testing.assert_allclose(kept - kept.mean(axis=(0, 1)), eq4 - eq4.mean(axis=(0, 1)),
+                               atol=1e-6)  # fmt: skip

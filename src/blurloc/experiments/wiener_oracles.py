@@ -29,9 +29,14 @@ from ..metrics import psnr, ssim
 from .deblurring import paper_fig6_7
 from .rows import grouped_means, matching
 
+#: Eq. 4's constant NSR with the mean put back: each channel of the restoration shifted so that
+#: its mean is the blurred frame's (a constant NSR scales it by 1 / (1 + NSR)); an oracle run
+#: that separates the mean from the NSR's shape over the other frequencies.
+MEAN_KEPT = "constant, mean kept"
 #: The runs, each (kernel, intensity space, NSR, regulariser): one ingredient changes between
 #: neighbours. The regulariser is the NSR's dependence on frequency
-#: (:func:`~blurloc.deconv.wiener_deconvolve`): constant, as eq. 4 is printed, or the gradient's.
+#: (:func:`~blurloc.deconv.wiener_deconvolve`): constant, as eq. 4 is printed, constant with the
+#: mean put back (MEAN_KEPT), or the gradient's.
 VARIANTS = {
     "blind": ("estimated line", "gamma", "rule", "constant"),
     "line_rule": ("recorded line", "gamma", "rule", "constant"),
@@ -40,6 +45,7 @@ VARIANTS = {
     "path_best": ("true path", "gamma", "best", "constant"),
     "path_linear_rule": ("true path", "linear", "rule", "constant"),
     "path_linear_best": ("true path", "linear", "best", "constant"),
+    "path_best_mean_kept": ("true path", "gamma", "best", MEAN_KEPT),
     "path_best_gradient": ("true path", "gamma", "best", "gradient"),
     "line_best_gradient": ("recorded line", "gamma", "best", "gradient"),
     "blind_best_gradient": ("estimated line", "gamma", "best", "gradient"),
@@ -88,7 +94,13 @@ def _restore(
     linear: bool,
     regulariser: str = "constant",
 ) -> np.ndarray:
-    """Wiener (eq. 4) in gamma-encoded or linear intensities, clipped to [0, 1]."""
+    """Wiener (eq. 4) in gamma-encoded or linear intensities, clipped to [0, 1]; with MEAN_KEPT,
+    eq. 4 with each channel shifted to the blurred frame's mean before clipping."""
+    if regulariser == MEAN_KEPT:
+        source = srgb_to_linear(blurred) if linear else blurred
+        restored = wiener_deconvolve(source, kernel, nsr)
+        restored = np.clip(restored + source.mean(axis=(0, 1)) - restored.mean(axis=(0, 1)), 0, 1)
+        return linear_to_srgb(restored) if linear else restored
     if not linear:
         return np.clip(wiener_deconvolve(blurred, kernel, nsr, regulariser), 0.0, 1.0)
     light = srgb_to_linear(blurred)
