@@ -316,17 +316,15 @@ def main() -> None:
     print(f"chosen on the fit sets (fit, anisotropy, min length, noise exponent, max length, "
           f"max agreement): {chosen}, {regulariser_label(chosen_weight)}; shipped: {shipped}, "
           f"{regulariser_label(shipped_weight)}")  # fmt: skip
-    rules = {"gated (shipped)": (shipped, shipped_weight),
-             "gated (chosen on the fit sets)": (chosen, chosen_weight),
-             "ungated": (UNGATED, None), "ungated ": (UNGATED, chosen_weight)}  # fmt: skip
-    if (chosen, chosen_weight) == (shipped, shipped_weight):
-        del rules["gated (chosen on the fit sets)"]
-    if chosen_weight is None:
-        del rules["ungated "]
+    rules = [("gated (shipped)", shipped, shipped_weight),
+             ("gated (chosen on the fit sets)", chosen, chosen_weight),
+             ("ungated", UNGATED, None), ("ungated", UNGATED, chosen_weight)]  # fmt: skip
+    rules = [rule for index, rule in enumerate(rules)  # each gate and restoration once
+             if rule[1:] not in [earlier[1:] for earlier in rules[:index]]]  # fmt: skip
     rows = []
     for name, frames in sets.items():
-        for rule, (thresholds, weight) in rules.items():
-            found = {"set": name, "rule": rule.strip(), "restoration": regulariser_label(weight),
+        for rule, thresholds, weight in rules:
+            found = {"set": name, "rule": rule, "restoration": regulariser_label(weight),
                      **outcome(frames, thresholds, weight, True)}  # fmt: skip
             rows.append({column: found.get(column, "") for column in COLUMNS})
             print(rows[-1])

@@ -227,6 +227,12 @@ def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
     return result if image.dtype == np.uint8 else result.astype(image.dtype)
 
 
+def _check_regulariser(regulariser: str) -> None:
+    """Refuse a regulariser that is not one of REGULARISERS, naming it."""
+    if regulariser not in REGULARISERS:
+        raise ValueError(f"regulariser must be one of {REGULARISERS}, got {regulariser!r}")
+
+
 def difference_power(shape: tuple[int, int]) -> np.ndarray:
     r"""Squared response of the horizontal and vertical first differences on a DFT grid.
 
@@ -260,9 +266,8 @@ def difference_power(shape: tuple[int, int]) -> np.ndarray:
 def _wiener_response(otf: np.ndarray, nsr: float, regulariser: str = "constant") -> np.ndarray:
     """conj(C) / (|C|^2 + NSR(f)), the frequency response of eq. 4, in the OTF's precision."""
     weight = np.float32(nsr)
-    if regulariser == "gradient":
-        rows = otf.shape[0]
-        weight = weight * difference_power((rows, 2 * (otf.shape[1] - 1)))
+    if regulariser == "gradient":  # the rfft2 half (M, N/2 + 1) of an (M, N) grid, N even
+        weight = weight * difference_power((otf.shape[0], 2 * (otf.shape[1] - 1)))
     return otf.conj() / (otf.real**2 + otf.imag**2 + weight)
 
 
@@ -325,8 +330,7 @@ def wiener_deconvolve(
     cells", JOSA A 4(12), 1987 (power spectra of natural images fall as 1/f^2). The paper's
     eq. 4.
     """
-    if regulariser not in REGULARISERS:
-        raise ValueError(f"regulariser must be one of {REGULARISERS}, got {regulariser!r}")
+    _check_regulariser(regulariser)
     image = check_image(image)
     if nsr is None and regulariser == "gradient":
         raise ValueError(
@@ -545,8 +549,7 @@ def blind_nsr(
     ----------
     Immerkær, "Fast noise variance estimation", CVIU 64(2), 1996. The paper's eq. 4.
     """
-    if regulariser not in REGULARISERS:
-        raise ValueError(f"regulariser must be one of {REGULARISERS}, got {regulariser!r}")
+    _check_regulariser(regulariser)
     sigma = estimate_noise_sigma(image) if noise_sigma is None else noise_sigma
     if regulariser == "constant":
         return _nsr_from_noise(sigma)
@@ -606,8 +609,7 @@ def deblur_blind(
     Wiener 1949; Gonzalez and Woods 2018 (see :func:`wiener_deconvolve`). The paper's Section
     III.A.1 and eq. 4.
     """
-    if regulariser not in REGULARISERS:
-        raise ValueError(f"regulariser must be one of {REGULARISERS}, got {regulariser!r}")
+    _check_regulariser(regulariser)
     kernel, noise_sigma = _blind_estimate(image, threshold, gated)
     if kernel is None:
         return image.copy()

@@ -11,12 +11,12 @@ import numpy as np
 from skimage.restoration import richardson_lucy, unsupervised_wiener, wiener
 from tqdm.auto import tqdm
 
-from ..blur import blur_image, estimate_noise_sigma
+from ..blur import blur_image
 from ..data.samples import split_frames
 from ..data.sevenscenes import read_image
 from ..deconv import (
-    GRADIENT_WEIGHT_PER_NOISE,
     blind_kernel,
+    blind_nsr,
     deblur_blind,
     estimate_nsr,
     inverse_filter,
@@ -190,8 +190,8 @@ def deblurring_methods(
     """The single-image methods compared in notebook 02.
 
     ``blind_wiener`` is this package's eq. 4 with the NSR estimated from the noise;
-    ``blind_wiener_gradient`` the same with the gradient regulariser (weight
-    GRADIENT_WEIGHT_PER_NOISE times the noise sigma, :func:`~blurloc.deconv.wiener_deconvolve`);
+    ``blind_wiener_gradient`` the same with the gradient regulariser at blind deblurring's
+    weight (:func:`~blurloc.deconv.blind_nsr`);
     ``blind_deblurring`` the package's blind deblurring as shipped
     (:func:`~blurloc.deconv.deblur_blind`: its regulariser, and its gate, which passes through
     frames whose restoration is not expected to gain); scikit-image's ``wiener``,
@@ -230,9 +230,7 @@ def deblurring_methods(
         "blurred": lambda image, kernel: image,
         "blind_wiener": skip_if_sharp(lambda im, k: wiener_deconvolve(im, k)),
         "blind_wiener_gradient": skip_if_sharp(
-            lambda im, k: wiener_deconvolve(
-                im, k, max(GRADIENT_WEIGHT_PER_NOISE * estimate_noise_sigma(im), 1e-6), "gradient"
-            )
+            lambda im, k: wiener_deconvolve(im, k, blind_nsr(im, "gradient"), "gradient")
         ),
         "blind_deblurring": skip_if_sharp(lambda im, k: deblur_blind(im)),
         "skimage_wiener": skip_if_sharp(
