@@ -132,6 +132,18 @@ def test_sinc_refinement_is_kept_only_within_the_agreement_band() -> None:
                                              * features.scale)  # fmt: skip
 
 
+@pytest.mark.parametrize("name", ["camera", "coffee"])
+def test_sinc_refinement_does_not_depend_on_the_frame_size(name: str) -> None:
+    """An 8 px line on a photograph and the same blur area-averaged to half size (4 px): both
+    are read from the sinc zeros, and the half-size length is half the full-size one."""
+    blurred = blur_image(to_gray(getattr(skimage.data, name)()), motion_kernel(8, 0), 0.0)
+    half = cv2.resize(blurred, None, fx=0.5, fy=0.5, interpolation=cv2.INTER_AREA)
+    full_estimate, half_estimate = estimate_motion_blur(blurred), estimate_motion_blur(half)
+    assert full_estimate.fit > 0 and half_estimate.fit > 0
+    assert half_estimate.length_px == pytest.approx(full_estimate.length_px / 2, rel=0.05)
+    assert half_estimate.length_px == pytest.approx(4.0, abs=0.25)
+
+
 def test_small_trajectory_blur_in_small_frames() -> None:
     """Slightly bent camera paths of 2-10 px on 160x120 photographs, noise σ = 0.01, 8 bits."""
     rng = np.random.default_rng(1)

@@ -128,8 +128,13 @@ def _analyse(gray: np.ndarray, window: int, around_deg: float) -> tuple[float, f
     return direction, length, correlation
 
 
-#: Coarse estimates at least this long (px of the image given) are refined from the sinc zeros.
-SINC_MIN_PX = 6.0
+#: Coarse estimates at least this long are refined from the sinc zeros, in px of the copy the
+#: zeros are fitted on (short side at most ``window``, 256 px by default), where how far apart
+#: the zeros lie, and so whether they can be told from noise, is decided. 3.2 px is where
+#: 640x480 frames have been refined since the threshold was set, at 6 px of the frame (their
+#: copy is 1.875 times smaller); smaller frames are now refined from the same length of their
+#: copy: a 320x240 frame from 3.2 px, no longer from 6 px.
+SINC_MIN_PX = 3.2
 #: The refined length is kept only within these factors of the coarse one. Chosen among eleven
 #: bands on held-out examples (``benchmarks/choose_sinc_agreement.py``: a 640x480 stand-in
 #: render of seed 3 and line-blurred photo crops, neither fitted nor tested on): a lower factor
@@ -150,9 +155,9 @@ def estimate_motion_blur(
 
     Coarse, for any blur: :func:`blur_features` gives the direction; the length model (a small
     perceptron on the features, fitted on the stand-in's training split) gives the extent.
-    Fine, for long linear blur (coarse length >= SINC_MIN_PX): the sinc zeros of the log
-    spectrum of a copy area-averaged to a short side of at most ``window`` px, whitened by its
-    radial mean, searched by Radon projection (3° grid within 12° of the coarse direction,
+    Fine, for long linear blur (coarse length >= SINC_MIN_PX px of the copy): the sinc zeros of
+    the log spectrum of a copy area-averaged to a short side of at most ``window`` px, whitened
+    by its radial mean, searched by Radon projection (3° grid within 12° of the coarse direction,
     refined to 0.1°) and fitted by log sinc^2(L r / N) (L on a 0.5 px grid, refined to
     0.02 px); kept when it agrees with the coarse estimate (SINC_AGREEMENT: 0.67 to 2 times its
     length by default; direction within 20°), which rejects the zeros of content or noise.
@@ -195,9 +200,9 @@ def estimate_motion_blur(
     """
     features = features or blur_features(image)
     length, angle = length_from_features(features), features.angle_deg
-    if length >= SINC_MIN_PX and min(np.shape(image)[:2]) >= 64:
+    factor = max(1.0, min(np.shape(image)[:2]) / window)  # one tile is enough: average down
+    if length / factor >= SINC_MIN_PX and min(np.shape(image)[:2]) >= 64:
         gray = to_gray(image)
-        factor = max(1.0, min(gray.shape) / window)  # one tile is enough: average down to it
         if factor > 1.0:
             size = (round(gray.shape[1] / factor), round(gray.shape[0] / factor))
             gray = cv2.resize(gray, size, interpolation=cv2.INTER_AREA)
