@@ -130,10 +130,9 @@ def _analyse(gray: np.ndarray, window: int, around_deg: float) -> tuple[float, f
 
 #: Coarse estimates at least this long are refined from the sinc zeros, in px of the copy the
 #: zeros are fitted on (short side at most ``window``, 256 px by default), where how far apart
-#: the zeros lie, and so whether they can be told from noise, is decided. 3.2 px is where
-#: 640x480 frames have been refined since the threshold was set, at 6 px of the frame (their
-#: copy is 1.875 times smaller); smaller frames are now refined from the same length of their
-#: copy: a 320x240 frame from 3.2 px, no longer from 6 px.
+#: the zeros lie, and so whether they can be told from noise, is decided. 3.2 px of the copy
+#: is 6 px of a 640x480 frame (its copy is 1.875 times smaller) and 3.2 px of a 320x240 or
+#: 160x120 frame (copied as they are).
 SINC_MIN_PX = 3.2
 #: The refined length is kept only within these factors of the coarse one. Chosen among eleven
 #: bands on held-out examples (``benchmarks/choose_sinc_agreement.py``: a 640x480 stand-in
