@@ -11,7 +11,9 @@ Measures, with the package's current API and defaults:
 - blind blur length on the 80 consecutive posed TUM RGB-D frames: Spearman rank correlation of
   :func:`blurloc.blur.estimate_motion_blur`'s length, of the detector's score and of the negated
   variance of the Laplacian with the camera's image motion, at 640x480 and at 320x240, over all
-  frames and over the half with the slower motion;
+  frames and over the half with the slower motion, and the length's lead over the variance of
+  the Laplacian with its 95 % moving-block bootstrap interval
+  (:func:`~blurloc.experiments.real_frames.spearman_difference`);
 - blind Wiener deblurring (:func:`blurloc.deconv.deblur_blind`): PSNR against the sharp frame
   before and after, on the real blurred/sharp pairs;
 - the TUM reader of ``pose-error`` (:func:`blurloc.trajectory.read_tum`) on the real TUM files;
@@ -48,6 +50,7 @@ from blurloc.experiments.real_frames import (
     pair_restorations,
     photograph_verdicts,
     posed_frames_with_motion,
+    spearman_difference,
 )
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.trajectory import read_tum
@@ -90,6 +93,15 @@ def motion_rows(rows: list[dict]) -> None:
                              "n": row["frames"], "measure": "Spearman with camera image motion",
                              "value": row["spearman"],
                              "target": ">= 0.5" if "length" in row["measure"] else ""})  # fmt: skip
+        difference = spearman_difference(
+            measures["blind length (px)"], measures["negated variance of the Laplacian"], motion
+        )
+        rows.append({"stage": "blind length minus variance of the Laplacian",
+                     "data": f"real TUM fr1_rpy frames, {size}", "n": difference.pairs,
+                     "measure": "difference of Spearman with camera image motion [95 % "
+                                "moving-block bootstrap interval, blocks of 10 frames]",
+                     "value": f"{difference.mean:+.3f} [{difference.low:+.3f}, "
+                              f"{difference.high:+.3f}]", "target": "> 0"})  # fmt: skip
         flagged = np.mean(measures["detector score (px)"] > BLUR_THRESHOLD)
         rows.append({"stage": "detect_blur", "data": f"real TUM fr1_rpy frames, {size}",
                      "n": len(images), "measure": "share flagged blurred",

@@ -37,6 +37,7 @@ from blurloc.experiments.real_frames import (
     motion_agreement,
     photograph_verdicts,
     posed_frames_with_motion,
+    spearman_difference,
 )
 
 ENTRIES = read_manifest()
@@ -200,3 +201,20 @@ def test_real_stages_measure_the_real_files():
     verdicts = photograph_verdicts()
     assert {row["part"] for row in verdicts} == {"sharp", "blurred"}
     assert all(row["reported"] in ("sharp", "blurred") for row in verdicts)
+
+
+def test_spearman_difference_resolves_a_better_measure_and_not_an_equal_one():
+    rng = np.random.default_rng(3)
+    motion = np.cumsum(rng.normal(size=80)) + 40  # correlated from frame to frame, as a camera's
+    follows = motion + rng.normal(0, 1, 80)
+    ignores = rng.normal(size=80)
+    better = spearman_difference(follows, ignores, motion, resamples=400)
+    assert better.mean > 0.8 and better.low > 0.5 and better.pairs == 80
+    same = spearman_difference(follows, follows, motion, resamples=400)
+    assert same.mean == same.low == same.high == 0.0
+    swapped = spearman_difference(ignores, follows, motion, resamples=400)
+    assert swapped.mean == pytest.approx(-better.mean) and swapped.high < 0
+    with pytest.raises(ValueError, match="differ in length"):
+        spearman_difference(follows[:79], ignores, motion)
+    with pytest.raises(ValueError, match="two blocks"):
+        spearman_difference(follows[:15], ignores[:15], motion[:15])
