@@ -1,0 +1,85 @@
+"""Blur kernels from a video's own motion, and deblurring a video with them."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+import skimage.data
+
+from blurloc.blur.video_motion import (
+    calibrate_exposure_share,
+    exposure_paths,
+    frame_shifts,
+    path_length,
+    video_motion_kernels,
+)
+from blurloc.experiments.photo_video import photo_video
+from blurloc.metrics import mean_frame_psnr
+from blurloc.video_wiener import deblur_video_motion
+
+
+def _panned(step: tuple[float, float], frames: int = 5) -> np.ndarray:
+    """Sharp 160x120 crops of a photograph whose content moves by ``step`` px per frame."""
+    photo = skimage.data.astronaut()
+    crops = []
+    for index in range(frames):
+        matrix = np.float32([[1, 0, step[0] * index - 100], [0, 1, step[1] * index - 100]])
+        crops.append(cv2.warpAffine(photo, matrix, (160, 120), borderMode=cv2.BORDER_REFLECT))
+    return np.stack(crops)
+
+
+def test_frame_shifts_measure_the_motion_of_the_content() -> None:
+    shifts = frame_shifts(_panned((3.0, -2.0)))
+    assert shifts.shape == (4, 2)
+    np.testing.assert_allclose(shifts, np.tile([3.0, -2.0], (4, 1)), atol=0.15)
+    with pytest.raises(ValueError, match="at least 2 frames"):
+        frame_shifts(_panned((1.0, 0.0))[:1])
+
+
+def test_exposure_paths_follow_the_motion_over_the_exposure_share() -> None:
+    steady = exposure_paths(np.tile([4.0, 0.0], (3, 1)), exposure_share=0.5, points=5)
+    assert len(steady) == 4
+    for path in steady:  # a straight segment of half a frame's motion, centred on the frame
+        np.testing.assert_allclose(path[:, 1], 0.0)
+        np.testing.assert_allclose(path[[0, -1], 0], [-1.0, 1.0])
+        assert path_length(path) == pytest.approx(2.0)
+    speeding_up = exposure_paths(np.array([[1.0, 0.0], [3.0, 0.0]]), exposure_share=1.0)
+    middle = speeding_up[1]  # positions 0, 1, 4: the parabola bends towards the faster side
+    assert middle[-1, 0] > -middle[0, 0] > 0
+    with pytest.raises(ValueError, match="exposure_share"):
+        exposure_paths(np.ones((2, 2)), exposure_share=0.0)
+    with pytest.raises(ValueError, match="shifts"):
+        exposure_paths(np.ones((2, 3)), exposure_share=1.0)
+
+
+def test_a_still_video_has_no_blur_and_is_returned_unchanged() -> None:
+    still = _panned((0.0, 0.0), frames=3)
+    motion = video_motion_kernels(still)
+    assert np.all(motion.lengths_px < 0.2)
+    assert calibrate_exposure_share(still, frame_shifts(still)) is None
+    np.testing.assert_array_equal(deblur_video_motion(still), still)
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.01])
+def test_a_panned_video_is_deblurred_with_and_without_noise(noise: float) -> None:
+    """A GoPro-style video (9 sub-frames averaged in linear light, 8 px of blur at 160x120) of a
+    photograph: its own motion gives the kernels, and the restored frames are sharper."""
+    blurred, sharp = photo_video(skimage.data.coffee(), frames=6, step_px=1.0, angle_deg=20.0,
+                                 noise_sigma=noise, seed=1)  # fmt: skip
+    motion = video_motion_kernels(blurred)
+    np.testing.assert_allclose(np.median(motion.lengths_px), 9.0, atol=1.5)  # 9 px per frame
+    restored = deblur_video_motion(blurred)
+    assert restored.shape == blurred.shape and restored.dtype == np.uint8
+    gain = mean_frame_psnr([(restored, sharp)]) - mean_frame_psnr([(blurred, sharp)])
+    assert gain > 0.5
+
+
+def test_deblur_video_motion_refuses_what_is_not_a_video() -> None:
+    video = _panned((1.0, 0.0), frames=2)
+    with pytest.raises(ValueError, match="uint8 video"):
+        deblur_video_motion(video[0])
+    with pytest.raises(ValueError, match="uint8 video"):
+        deblur_video_motion(video.astype(np.float32))
+    with pytest.raises(ValueError, match="min_weight"):
+        deblur_video_motion(video, min_weight=0.0)
