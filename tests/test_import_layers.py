@@ -31,6 +31,7 @@ LAYERS = (
     ("geometry",),
     ("blur", "metrics"),
     ("deconv",),
+    ("video_wiener",),
     ("batch_deblur",),
     ("data", "trajectory"),
     ("models", "checkpoints"),

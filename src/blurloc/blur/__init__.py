@@ -7,7 +7,8 @@ One module per job, imported here so that ``from blurloc.blur import name`` reac
 - :mod:`~blurloc.blur.features`: the spectral and gradient features the estimator reads;
 - :mod:`~blurloc.blur.length_model`: the learnt model from features to blur extent;
 - :mod:`~blurloc.blur.detection`: the blur score, the detector and its calibration;
-- :mod:`~blurloc.blur.estimation`: blind estimation of the blur's length and angle.
+- :mod:`~blurloc.blur.estimation`: blind estimation of the blur's length and angle;
+- :mod:`~blurloc.blur.video_motion`: each frame's kernel from a video's own motion.
 
 Conventions: images are float arrays in [0, 1] (or uint8), rows downwards. Angles are degrees in
 [0, 180), counter-clockwise from the image's horizontal axis as displayed (y up); lengths are
@@ -36,11 +37,20 @@ from .length_model import (
     length_from_features,
 )
 from .spectrum import estimate_noise_sigma, log_power_spectrum, to_gray
+from .video_motion import (
+    DEFAULT_EXPOSURE_SHARE,
+    VideoMotion,
+    calibrate_exposure_share,
+    exposure_paths,
+    frame_shifts,
+    video_motion_kernels,
+)
 
 __all__ = [
     "ANALYSIS_SIDE",
     "BLURRED_FROM_PX",
     "BLUR_THRESHOLD",
+    "DEFAULT_EXPOSURE_SHARE",
     "LENGTH_MODEL_PATH",
     "MIN_ANALYSIS_SIDE",
     "SHARP_BELOW_PX",
@@ -49,22 +59,27 @@ __all__ = [
     "BlurEstimate",
     "BlurFeatures",
     "LengthModel",
+    "VideoMotion",
     "analysis_length",
     "blur_features",
     "blur_image",
     "blur_score",
     "calibrate_blur_threshold",
+    "calibrate_exposure_share",
     "check_kernel",
     "default_length_model",
     "detect_blur",
     "detection_rates",
     "estimate_motion_blur",
     "estimate_noise_sigma",
+    "exposure_paths",
     "fit_length_model",
+    "frame_shifts",
     "length_from_features",
     "log_power_spectrum",
     "motion_kernel",
     "shake_path",
     "to_gray",
     "trajectory_kernel",
+    "video_motion_kernels",
 ]
