@@ -13,7 +13,9 @@ Measures, with the package's current API and defaults:
   variance of the Laplacian with the camera's image motion, at 640x480 and at 320x240, over all
   frames and over the half with the slower motion, and the length's lead over the variance of
   the Laplacian with its 95 % moving-block bootstrap interval
-  (:func:`~blurloc.experiments.real_frames.spearman_difference`);
+  (:func:`~blurloc.experiments.real_frames.spearman_difference`); and the same rank
+  correlation of each frame's exposure path length from the video's own motion
+  (:func:`~blurloc.experiments.real_frames.video_motion_lengths`);
 - blind Wiener deblurring (:func:`blurloc.deconv.deblur_blind`): PSNR against the sharp frame
   before and after, on the real blurred/sharp pairs;
 - the TUM reader of ``pose-error`` (:func:`blurloc.trajectory.read_tum`) on the real TUM files;
@@ -36,6 +38,7 @@ import argparse
 from pathlib import Path
 
 import numpy as np
+from scipy.stats import spearmanr
 
 from blurloc.blur import BLUR_THRESHOLD
 from blurloc.data.real import tum_files, verify
@@ -51,6 +54,7 @@ from blurloc.experiments.real_frames import (
     photograph_verdicts,
     posed_frames_with_motion,
     spearman_difference,
+    video_motion_lengths,
 )
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.trajectory import read_tum
@@ -93,6 +97,13 @@ def motion_rows(rows: list[dict]) -> None:
                              "n": row["frames"], "measure": "Spearman with camera image motion",
                              "value": row["spearman"],
                              "target": ">= 0.5" if "length" in row["measure"] else ""})  # fmt: skip
+        video = video_motion_lengths(images, scale)
+        for subset, chosen in (("", np.ones_like(slower)), (", slower half", slower)):
+            rows.append({"stage": "video motion path (blur.video_motion_kernels)",
+                         "data": f"real TUM fr1_rpy frames, {size}{subset}",
+                         "n": int(chosen.sum()), "measure": "Spearman with camera image motion",
+                         "value": round(float(spearmanr(video[chosen], motion[chosen]).statistic),
+                                        3), "target": ""})  # fmt: skip
         difference = spearman_difference(
             measures["blind length (px)"], measures["negated variance of the Laplacian"], motion
         )

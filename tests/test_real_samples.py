@@ -38,6 +38,7 @@ from blurloc.experiments.real_frames import (
     photograph_verdicts,
     posed_frames_with_motion,
     spearman_difference,
+    video_motion_lengths,
 )
 
 ENTRIES = read_manifest()
@@ -197,6 +198,8 @@ def test_real_stages_measure_the_real_files():
                              "negated variance of the Laplacian"}  # fmt: skip
     assert all(values.shape == (3,) and np.isfinite(values).all() for values in measures.values())
     agreement = motion_agreement(measures, motion[:3])
+    lengths = video_motion_lengths(images[:3], scale=4)
+    assert lengths.shape == (3,) and np.isfinite(lengths).all() and (lengths >= 0).all()
     assert [row["frames"] for row in agreement] == [3, 3, 3]
     verdicts = photograph_verdicts()
     assert {row["part"] for row in verdicts} == {"sharp", "blurred"}

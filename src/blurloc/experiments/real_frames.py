@@ -11,7 +11,7 @@ import cv2
 import numpy as np
 from scipy.stats import spearmanr
 
-from ..blur import detect_blur, estimate_motion_blur
+from ..blur import detect_blur, estimate_motion_blur, video_motion_kernels
 from ..data import load_split
 from ..data.real import (
     POSED_SCENE,
@@ -108,8 +108,7 @@ def blur_measures(images: np.ndarray, scale: int = 1) -> dict[str, np.ndarray]:
         ``{"blind length (px)", "detector score (px)", "negated variance of the Laplacian"}``,
         each (N,), in px of the measured size where a length.
     """
-    frames = [cv2.resize(image, None, fx=1 / scale, fy=1 / scale, interpolation=cv2.INTER_AREA)
-              if scale > 1 else image for image in images]  # fmt: skip
+    frames = _resized(images, scale)
     measure: dict[str, Callable[[np.ndarray], float]] = {
         "blind length (px)": lambda frame: estimate_motion_blur(frame).length_px,
         "detector score (px)": lambda frame: detect_blur(frame)[1],
@@ -117,6 +116,32 @@ def blur_measures(images: np.ndarray, scale: int = 1) -> dict[str, np.ndarray]:
     }
     return {name: np.array([function(frame) for frame in frames])
             for name, function in measure.items()}  # fmt: skip
+
+
+def _resized(images: np.ndarray, scale: int) -> list[np.ndarray]:
+    """Each frame area-averaged by ``scale`` (1: as it is)."""
+    return [cv2.resize(image, None, fx=1 / scale, fy=1 / scale, interpolation=cv2.INTER_AREA)
+            if scale > 1 else image for image in images]  # fmt: skip
+
+
+def video_motion_lengths(images: np.ndarray, scale: int = 1) -> np.ndarray:
+    """Each frame's blur length read from the video's own motion: the length of its exposure
+    path (:func:`blurloc.blur.video_motion_kernels`, default exposure share), in px of the
+    measured size.
+
+    Parameters
+    ----------
+    images : numpy.ndarray
+        (N, H, W, 3) consecutive frames, N >= 2.
+    scale : int
+        Area-average each frame by this factor first.
+
+    Returns
+    -------
+    numpy.ndarray
+        (N,) path lengths, px.
+    """
+    return video_motion_kernels(np.stack(_resized(images, scale))).lengths_px
 
 
 def motion_agreement(measures: dict[str, np.ndarray], motion_px: np.ndarray) -> list[dict]:
