@@ -14,6 +14,7 @@ from blurloc.blur.video_motion import (
     path_length,
     video_motion_kernels,
 )
+from blurloc.cli import main
 from blurloc.experiments.photo_video import photo_video
 from blurloc.metrics import mean_frame_psnr
 from blurloc.video_wiener import deblur_video_motion
@@ -91,3 +92,27 @@ def test_a_640x480_video_is_deblurred() -> None:
                                  size=(640, 480), noise_sigma=0.0, seed=1)  # fmt: skip
     restored = deblur_video_motion(blurred)
     assert mean_frame_psnr([(restored, sharp)]) - mean_frame_psnr([(blurred, sharp)]) > 0.5
+
+
+def test_deblur_video_cli_restores_a_folder_with_the_motion_method(
+    tmp_path, capsys: pytest.CaptureFixture
+) -> None:
+    blurred, sharp = photo_video(skimage.data.coffee(), frames=4, step_px=1.0, angle_deg=20.0,
+                                 noise_sigma=0.0, seed=1)  # fmt: skip
+    folder = tmp_path / "video"
+    folder.mkdir()
+    for index, frame in enumerate(blurred):
+        cv2.imwrite(str(folder / f"frame-{index:03d}.png"), frame[..., ::-1])
+    out = tmp_path / "out"
+    assert main(["deblur-video", str(folder), str(out), "--method", "motion"]) == 0
+    restored = np.stack([cv2.imread(str(out / f"frame-{i:03d}.png"))[..., ::-1] for i in range(4)])
+    np.testing.assert_array_equal(restored, deblur_video_motion(blurred))
+    assert mean_frame_psnr([(restored, sharp)]) > mean_frame_psnr([(blurred, sharp)])
+    for wrong, message in (
+        (["--method", "motion", "--exposure-share", "0"], "must be > 0"),
+        (["--exposure-share", "0.5"], "is for --method motion"),
+        (["--method", "motion", "--checkpoint", "x.pt"], "no network"),
+    ):
+        assert main(["deblur-video", str(folder), str(tmp_path / "o2"), *wrong]) == 1
+        assert message in capsys.readouterr().err
+    assert not (tmp_path / "o2").exists()

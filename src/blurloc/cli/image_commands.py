@@ -179,11 +179,24 @@ def _train_video_deblur(args: argparse.Namespace) -> int:
 
 
 def _deblur_video(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from ..data.frames import list_frames, read_frames
     from ..files import image_header, write_image_file
     from ..inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_frames
+    from ..video_wiener import deblur_video_motion
 
-    model = load_video_deblur(args.checkpoint or DEFAULT_CHECKPOINT)
+    if args.method == "motion" and args.checkpoint:
+        raise ValueError("--checkpoint is for --method network; --method motion has no network")
+    if args.exposure_share is not None and args.method != "motion":
+        raise ValueError("--exposure-share is for --method motion")
+    if args.exposure_share is not None and not args.exposure_share > 0:
+        raise ValueError(f"--exposure-share must be > 0, got {args.exposure_share}")
+    model = (
+        None
+        if args.method == "motion"
+        else load_video_deblur(args.checkpoint or DEFAULT_CHECKPOINT)
+    )
     paths = list_frames(args.input)
     target = Path(args.output)
     check_output(target, args.input, args.checkpoint, names=[p.name for p in paths],
@@ -195,7 +208,11 @@ def _deblur_video(args: argparse.Namespace) -> int:
                              "RGB frames only and would change it (convert the frames, or use "
                              "`blurloc deblur`, which keeps depth and channels)")  # fmt: skip
     target.mkdir(parents=True, exist_ok=True)
-    restored = restore_frames(model, read_frames(paths))  # streamed: one chunk held at a time
+    if args.method == "motion":  # the whole video in memory: each frame's path needs its neighbours
+        options = {} if args.exposure_share is None else {"exposure_share": args.exposure_share}
+        restored = deblur_video_motion(np.stack(list(read_frames(paths))), **options)
+    else:
+        restored = restore_frames(model, read_frames(paths))  # streamed: one chunk at a time
     for path, frame in zip(paths, restored, strict=True):
         write_image_file(target / path.name, frame)
     print(json.dumps({"frames": len(paths), "output": str(target)}))
@@ -260,10 +277,23 @@ def add_train_video_deblur_parser(commands: argparse._SubParsersAction) -> None:
 def add_deblur_video_parser(commands: argparse._SubParsersAction) -> None:
     """Add ``blurloc deblur-video`` and its options to ``commands``."""
     video = commands.add_parser(
-        "deblur-video", help="deblur a video folder with the recurrent network"
+        "deblur-video",
+        help="deblur a video folder with the recurrent network, or with kernels from its motion",
     )
     video.add_argument("input", help="7-Scenes sequence folder or folder of images")
     video.add_argument("output", help="folder for the deblurred frames (same names)")
+    video.add_argument(
+        "--method",
+        choices=("network", "motion"),
+        default="network",
+        help="network: the recurrent network (default); motion: Wiener "
+        "deconvolution of each frame by the path its image took during the "
+        "exposure, from the video's own motion (holds the video in memory)",
+    )
+    video.add_argument("--exposure-share", type=float,
+                       help="with --method motion: exposure time over frame interval (default "
+                            "1.0, as for frames averaged the GoPro way; 0.5 for a 180-degree "
+                            "shutter)")  # fmt: skip
     video.add_argument("--checkpoint", help="network checkpoint (default: the shipped one)")
     video.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
     video.set_defaults(handler=_deblur_video)
