@@ -64,8 +64,9 @@ def test_a_still_video_has_no_blur_and_is_returned_unchanged() -> None:
 
 @pytest.mark.parametrize("noise", [0.0, 0.01])
 def test_a_panned_video_is_deblurred_with_and_without_noise(noise: float) -> None:
-    """A GoPro-style video (9 sub-frames averaged in linear light, 8 px of blur at 160x120) of a
-    photograph: its own motion gives the kernels, and the restored frames are sharper."""
+    """A GoPro-style video (9 sub-frames averaged in linear light, 9 px of motion per frame at
+    160x120) of a photograph: its own motion gives the kernels, and the restored frames are
+    sharper."""
     blurred, sharp = photo_video(skimage.data.coffee(), frames=6, step_px=1.0, angle_deg=20.0,
                                  noise_sigma=noise, seed=1)  # fmt: skip
     motion = video_motion_kernels(blurred)
@@ -87,7 +88,7 @@ def test_deblur_video_motion_refuses_what_is_not_a_video() -> None:
 
 
 def test_a_640x480_video_is_deblurred() -> None:
-    """7-Scenes' frame size: 16 px of blur per frame, no noise."""
+    """7-Scenes' frame size: 18 px of motion per frame, no noise."""
     blurred, sharp = photo_video(skimage.data.coffee(), frames=4, step_px=2.0, angle_deg=20.0,
                                  size=(640, 480), noise_sigma=0.0, seed=1)  # fmt: skip
     restored = deblur_video_motion(blurred)

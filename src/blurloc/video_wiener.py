@@ -61,7 +61,7 @@ def deblur_video_motion(
     ------
     ValueError
         If ``frames`` is not a (T, H, W, 3) uint8 video of at least two frames, or
-        ``min_weight`` is not positive.
+        ``exposure_share`` or ``min_weight`` is not positive.
     """
     frames = np.asarray(frames)
     if frames.ndim != 4 or frames.shape[-1] != 3 or frames.dtype != np.uint8 or len(frames) < 2:
@@ -71,8 +71,8 @@ def deblur_video_motion(
         raise ValueError(f"min_weight must be > 0, got {min_weight}")
     motion = video_motion_kernels(frames, exposure_share)
     restored = frames.copy()
-    pairs = zip(motion.kernels, motion.lengths_px, strict=True)
-    for index, (frame, (kernel, length)) in enumerate(zip(frames, pairs, strict=True)):
+    for index, frame in enumerate(frames):
+        kernel, length = motion.kernels[index], motion.lengths_px[index]
         if length < MIN_PATH_PX:
             continue
         weight = max(GRADIENT_WEIGHT_PER_NOISE * estimate_noise_sigma(frame), min_weight)

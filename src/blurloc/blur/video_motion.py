@@ -4,10 +4,10 @@ A frame of a video is blurred by the motion of the image during its exposure (eq
 same motion moves the image from one frame to the next. Measured between consecutive frames
 (phase correlation), the motion gives each frame's path: a curve through the image positions of
 the frames before, at and after it, of which the exposure covers a share around the frame's own
-position. That share (exposure time over frame interval: about (N - 1) / N for N frames averaged
-the GoPro way, 0.5 for a 180° shutter) is a setting of the camera; where it is not known it can
-be read from the frames' blind blur estimates where their sinc zeros are trusted
-(:func:`calibrate_exposure_share`), less reliably.
+position. That share (exposure time over frame interval: about 1 for frames averaged the GoPro
+way, whose N sub-frames spread over N steps of the motion; 0.5 for a 180° shutter) is a setting
+of the camera; where it is not known it can be read from the frames' blind blur estimates where
+their sinc zeros are trusted (:func:`calibrate_exposure_share`).
 
 Conventions as in :mod:`blurloc.blur`: images uint8 or float in [0, 1]; displacements in px of
 the frames given, x right and y down.
@@ -28,8 +28,8 @@ from .spectrum import to_gray
 #: Points per exposure path (:func:`exposure_paths`).
 PATH_POINTS = 9
 #: Exposure share assumed unless given: a frame blurred over its whole interval, as frames
-#: averaged the GoPro way nearly are (chosen on GoPro-style videos of photographs that the test
-#: videos do not show, against the calibrated share: ``benchmarks/video_motion_deblur.py``).
+#: averaged the GoPro way are (chosen among the calibrated share, 0.9, 1.0 and 1.2 on GoPro-style
+#: videos of photographs that the test videos do not show: ``benchmarks/video_motion_deblur.py``).
 DEFAULT_EXPOSURE_SHARE = 1.0
 #: Frames whose image moves less than this (px per frame) do not calibrate the exposure share.
 CALIBRATION_MIN_MOTION_PX = 1.0
@@ -40,8 +40,8 @@ def frame_shifts(frames: np.ndarray) -> np.ndarray:
 
     .. math::
 
-        \Delta_t = \arg\max_{x} \, F^{-1}\left\{ \frac{F\{I_t\} \overline{F\{I_{t+1}\}}}
-        {|F\{I_t\} \overline{F\{I_{t+1}\}}|} \right\}(x)
+        \Delta_t = \arg\max_{x} \, F^{-1}\left\{ \frac{\overline{F\{I_t\}} F\{I_{t+1}\}}
+        {|\overline{F\{I_t\}} F\{I_{t+1}\}|} \right\}(x)
 
     on the gray frames under a Hann window, refined to sub-pixel precision
     (:func:`cv2.phaseCorrelate`). One global translation per frame pair: right for a camera
@@ -71,10 +71,12 @@ def frame_shifts(frames: np.ndarray) -> np.ndarray:
     """
     if len(frames) < 2:
         raise ValueError(f"need at least 2 frames to measure motion, got {len(frames)}")
-    gray = [to_gray(frame).astype(np.float64) for frame in frames]
-    window = cv2.createHanningWindow(gray[0].shape[::-1], cv2.CV_64F)
-    return np.array([cv2.phaseCorrelate(first, second, window)[0]
-                     for first, second in itertools.pairwise(gray)])  # fmt: skip
+    gray = (to_gray(frame).astype(np.float64) for frame in frames)  # two held at a time
+    first = next(gray)
+    window = cv2.createHanningWindow(first.shape[::-1], cv2.CV_64F)
+    pairs = itertools.pairwise(itertools.chain([first], gray))
+    return np.array([cv2.phaseCorrelate(previous, current, window)[0]
+                     for previous, current in pairs])  # fmt: skip
 
 
 def exposure_paths(

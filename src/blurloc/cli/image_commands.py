@@ -201,18 +201,18 @@ def _deblur_video(args: argparse.Namespace) -> int:
     target = Path(args.output)
     check_output(target, args.input, args.checkpoint, names=[p.name for p in paths],
                  overwrite=args.overwrite)  # fmt: skip
-    for path in paths:  # the network restores 8-bit RGB: refuse what it would change
+    for path in paths:  # both methods restore 8-bit RGB: refuse what they would change
         header = image_header(path)
         if (header.bit_depth, header.channels) != (8, 3):
             raise ValueError(f"{path}: {header.describe()} frame; deblur-video restores 8-bit "
                              "RGB frames only and would change it (convert the frames, or use "
                              "`blurloc deblur`, which keeps depth and channels)")  # fmt: skip
-    target.mkdir(parents=True, exist_ok=True)
     if args.method == "motion":  # the whole video in memory: each frame's path needs its neighbours
         options = {} if args.exposure_share is None else {"exposure_share": args.exposure_share}
         restored = deblur_video_motion(np.stack(list(read_frames(paths))), **options)
     else:
         restored = restore_frames(model, read_frames(paths))  # streamed: one chunk at a time
+    target.mkdir(parents=True, exist_ok=True)
     for path, frame in zip(paths, restored, strict=True):
         write_image_file(target / path.name, frame)
     print(json.dumps({"frames": len(paths), "output": str(target)}))
@@ -291,8 +291,8 @@ def add_deblur_video_parser(commands: argparse._SubParsersAction) -> None:
         "exposure, from the video's own motion (holds the video in memory)",
     )
     video.add_argument("--exposure-share", type=float,
-                       help="with --method motion: exposure time over frame interval (default "
-                            "1.0, as for frames averaged the GoPro way; 0.5 for a 180-degree "
+                       help="with --method motion: exposure time over frame interval (default: "
+                            "that of frames averaged the GoPro way; 0.5 for a 180-degree "
                             "shutter)")  # fmt: skip
     video.add_argument("--checkpoint", help="network checkpoint (default: the shipped one)")
     video.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
