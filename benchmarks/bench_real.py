@@ -38,7 +38,6 @@ import argparse
 from pathlib import Path
 
 import numpy as np
-from scipy.stats import spearmanr
 
 from blurloc.blur import BLUR_THRESHOLD
 from blurloc.data.real import tum_files, verify
@@ -99,11 +98,12 @@ def motion_rows(rows: list[dict]) -> None:
                              "target": ">= 0.5" if "length" in row["measure"] else ""})  # fmt: skip
         video = video_motion_lengths(images, scale)
         for subset, chosen in (("", np.ones_like(slower)), (", slower half", slower)):
-            rows.append({"stage": "video motion path (blur.video_motion_kernels)",
+            (row,) = motion_agreement({"video motion path (blur.video_motion_kernels)":
+                                       video[chosen]}, motion[chosen])  # fmt: skip
+            rows.append({"stage": row["measure"],
                          "data": f"real TUM fr1_rpy frames, {size}{subset}",
-                         "n": int(chosen.sum()), "measure": "Spearman with camera image motion",
-                         "value": round(float(spearmanr(video[chosen], motion[chosen]).statistic),
-                                        3), "target": ""})  # fmt: skip
+                         "n": row["frames"], "measure": "Spearman with camera image motion",
+                         "value": row["spearman"], "target": ""})  # fmt: skip
         difference = spearman_difference(
             measures["blind length (px)"], measures["negated variance of the Laplacian"], motion
         )

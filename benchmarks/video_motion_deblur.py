@@ -40,20 +40,17 @@ import time
 from pathlib import Path
 
 import numpy as np
-import skimage.data
 
 from blurloc.blur import DEFAULT_EXPOSURE_SHARE
 from blurloc.data import list_scenes, load_split
 from blurloc.deconv import deblur_blind
 from blurloc.experiments.photo_video import (
-    PHOTO_VIDEO_PHOTOS,
-    PHOTO_VIDEO_SPEEDS,
     photo_training_videos,
-    photo_video,
+    photo_video_gains,
+    restoration_psnr,
 )
 from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
 from blurloc.intervals import Interval, paired_interval
-from blurloc.metrics import mean_frame_psnr
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.video_wiener import MIN_WEIGHT, deblur_video_motion
 
@@ -64,27 +61,22 @@ SHARES = (None, 0.9, 1.0, 1.2)
 PHOTO_VIDEO_SHARE = 1.0
 
 
-def photo_videos(noise_sigma: float) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """The 15 test photo videos (8 frames) at ``noise_sigma``."""
-    videos = []
-    for index, photo in enumerate(PHOTO_VIDEO_PHOTOS):
-        image = getattr(skimage.data, photo)()
-        for step in PHOTO_VIDEO_SPEEDS:
-            blurred, sharp = photo_video(image, 8, step_px=step, angle_deg=37.0 * index,
-                                         noise_sigma=noise_sigma, seed=index)  # fmt: skip
-            videos.append((f"{photo} {step} px", blurred, sharp))
-    return videos
+def photo_video_scores(noise_sigma: float):
+    """A function of a restorer: its (label, gain) on the 15 test photo videos (8 frames) at
+    ``noise_sigma`` (:func:`~blurloc.experiments.photo_video.photo_video_gains`)."""
+    return lambda restore: [(f"{row['photo']} {row['step_px']} px", row["gain_db"])
+                            for row in photo_video_gains(restore, 8, noise_sigma)]  # fmt: skip
 
 
-def standin_videos(root: Path, frames: int) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """The first ``frames`` frames of every test sequence of a stand-in root."""
-    videos = []
-    for scene in list_scenes(root):
-        for sequence in load_split(root, scene, "test"):
-            ids = sequence.frame_ids[:frames]
-            videos.append((f"{scene} {sequence.folder.name}", sequence.images("color", ids),
-                           sequence.images("sharp", ids)))  # fmt: skip
-    return videos
+def standin_scores(root: Path, frames: int):
+    """A function of a restorer: its (label, gain) on the first ``frames`` frames of every test
+    sequence of a stand-in root, against the sharp renders."""
+    videos = [(f"{scene} {sequence.folder.name}", sequence.images("color", ids),
+               sequence.images("sharp", ids))
+              for scene in list_scenes(root) for sequence in load_split(root, scene, "test")
+              for ids in [sequence.frame_ids[:frames]]]  # fmt: skip
+    return lambda restore: [(label, gain(restore, blurred, sharp))
+                            for label, blurred, sharp in videos]  # fmt: skip
 
 
 def lead(interval: Interval) -> str:
@@ -103,7 +95,8 @@ def render_exposure(root: Path) -> float:
 
 def gain(restore, blurred: np.ndarray, sharp: np.ndarray) -> float:
     """PSNR gain (dB) of ``restore(blurred)`` over ``blurred``, mean over frames."""
-    return mean_frame_psnr([(restore(blurred), sharp)]) - mean_frame_psnr([(blurred, sharp)])
+    before, after = restoration_psnr(restore, blurred, sharp)
+    return after - before
 
 
 def choose_settings() -> tuple[tuple[float | None, float], list[dict]]:
@@ -153,21 +146,20 @@ def main() -> None:
                 v, camera_share, weight)  # fmt: skip
         return chosen
 
-    sets = {"photo videos, no noise": (PHOTO_VIDEO_SHARE, photo_videos(0.0)),
-            "photo videos, sigma 0.01": (PHOTO_VIDEO_SHARE, photo_videos(0.01))}  # fmt: skip
+    sets = {"photo videos, no noise": (PHOTO_VIDEO_SHARE, photo_video_scores(0.0)),
+            "photo videos, sigma 0.01": (PHOTO_VIDEO_SHARE, photo_video_scores(0.01))}  # fmt: skip
     for name, root in (("stand-in as rendered (noisy)", args.standin),
                        ("stand-in without noise", args.clean_standin)):  # fmt: skip
         if root is not None:
-            sets[name] = (render_exposure(root), standin_videos(root, args.frames))
+            sets[name] = (render_exposure(root), standin_scores(root, args.frames))
     video_rows, summary = [], []
-    for set_name, (camera_share, videos) in sets.items():
-        chosen = methods(camera_share)
-        gains = {name: [] for name in chosen}
-        for label, blurred, sharp in videos:
-            for name, method in chosen.items():
-                gains[name].append(gain(method, blurred, sharp))
-                video_rows.append({"set": set_name, "video": label, "method": name,
-                                   "gain_db": round(gains[name][-1], 3)})  # fmt: skip
+    for set_name, (camera_share, score) in sets.items():
+        gains = {}
+        for name, method in methods(camera_share).items():
+            scores = score(method)
+            gains[name] = [value for _, value in scores]
+            video_rows += [{"set": set_name, "video": label, "method": name,
+                            "gain_db": round(value, 3)} for label, value in scores]  # fmt: skip
         print(set_name, {n: round(float(np.mean(g)), 3) for n, g in gains.items()}, flush=True)
         for name, values in gains.items():
             row = {"set": set_name, "method": name, "videos": len(values),

@@ -12,10 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .blur import estimate_noise_sigma
 from .blur.video_motion import DEFAULT_EXPOSURE_SHARE, video_motion_kernels
-from .deconv import GRADIENT_WEIGHT_PER_NOISE, wiener_deconvolve
-from .images import as_float_image
+from .deconv import blind_nsr, wiener_deconvolve
+from .images import as_float_image, like_input
 
 #: Smallest weight of the gradient regulariser, for frames without noise (chosen on GoPro-style
 #: videos of the photographs that the test videos do not show:
@@ -38,8 +37,9 @@ def deblur_video_motion(
         + \lambda_t |D(f)|^2} \, F\{b_t\} \right\}
 
     with :math:`c_t` the kernel of frame t's exposure path
-    (:func:`~blurloc.blur.video_motion.video_motion_kernels`) and :math:`\lambda_t` =
-    max(GRADIENT_WEIGHT_PER_NOISE σ_t, ``min_weight``).
+    (:func:`~blurloc.blur.video_motion.video_motion_kernels`) and :math:`\lambda_t` = the larger
+    of blind deblurring's weight (:func:`~blurloc.deconv.blind_nsr`: GRADIENT_WEIGHT_PER_NOISE
+    σ_t) and ``min_weight``.
 
     Parameters
     ----------
@@ -75,7 +75,7 @@ def deblur_video_motion(
         kernel, length = motion.kernels[index], motion.lengths_px[index]
         if length < MIN_PATH_PX:
             continue
-        weight = max(GRADIENT_WEIGHT_PER_NOISE * estimate_noise_sigma(frame), min_weight)
+        weight = max(blind_nsr(frame, "gradient"), min_weight)  # the blind rule, with a floor
         sharp = wiener_deconvolve(as_float_image(frame), kernel, nsr=weight, regulariser="gradient")
-        restored[index] = np.clip(sharp * 255 + 0.5, 0, 255).astype(np.uint8)
+        restored[index] = like_input(sharp, frame)
     return restored
