@@ -64,20 +64,31 @@ COLUMNS = ["dataset", "what", "seeds", "position_m", "orientation_deg", "positio
 
 def parse_variant(text: str) -> dict:
     """``name=value,...`` as ``PoseTrainConfig`` overrides: numbers and true/false parsed,
-    ``model.<name>`` settings of its ``PoseConfig`` gathered under ``model``."""
+    other values kept as text (``model.encoder=efficientnet_lite0``), ``model.<name>`` settings
+    of its ``PoseConfig`` gathered under ``model``."""
     overrides: dict = {}
     for item in text.split(","):
         name, _, value = item.partition("=")
         if value.lower() in ("true", "false"):
             parsed = value.lower() == "true"
         else:
-            parsed = float(value) if "." in value or "e" in value else int(value)
+            parsed = _number_or_text(value)
         if name.startswith("model."):
             overrides.setdefault("model", {})[name.removeprefix("model.")] = parsed
         else:
             overrides[name] = parsed
     variant_config(overrides, 0)  # refuses unknown names and bad values now, not after training
     return overrides
+
+
+def _number_or_text(value: str) -> int | float | str:
+    """``value`` as an int, else a float, else as it is."""
+    for kind in (int, float):
+        try:
+            return kind(value)
+        except ValueError:
+            pass
+    return value
 
 
 def variant_config(overrides: dict, seed: int) -> PoseTrainConfig:
@@ -230,6 +241,8 @@ def main() -> None:
     parser.add_argument("--variant", action="append", default=[],
                         help="PoseTrainConfig settings, name=value[,name=value]")  # fmt: skip
     parser.add_argument("--work", type=Path, default=Path("/tmp/bench-pose-real"))
+    parser.add_argument("--stem", default="bench_pose_real",
+                        help="name of the written tables (default: %(default)s)")  # fmt: skip
     add_out_dir_argument(parser)
     args = parser.parse_args()
     if args.seeds < 2:
@@ -256,7 +269,7 @@ def main() -> None:
     )
     table = [{column: row.get(column, "") for column in COLUMNS} for row in rows]
     saved = save_benchmark_tables(
-        "bench_pose_real",
+        args.stem,
         {"results": table},
         args.out_dir,
         "Pose regression on real frames beside image retrieval and the mean pose",

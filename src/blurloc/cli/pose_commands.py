@@ -20,7 +20,8 @@ def _train_pose(args: argparse.Namespace) -> int:
     root = _input_root(args.data, args.input)
     check_output(args.out, args.data, root, names=())
     config = PoseTrainConfig(seed=args.seed, device=args.device,
-                             model=PoseConfig(head=args.head, encoder=args.encoder))  # fmt: skip
+                             model=PoseConfig(head=args.head, encoder=args.encoder,
+                                              pretrained=args.pretrained))  # fmt: skip
     overrides = {"epochs": args.epochs, "resize": args.resize, "crop": args.crop,
                  "lr": args.lr, "batch": args.batch, "window": args.window}  # fmt: skip
     if args.windows_per_epoch is not None:  # 0: one pass over every window per epoch
@@ -98,7 +99,14 @@ def add_train_pose_parser(commands: argparse._SubParsersAction) -> None:
         help="frames to train on (wiener/rnn: deblurred copies from notebook 03)",
     )
     pose.add_argument("--head", choices=("lstm", "bilstm", "gru", "none"), default="lstm")
-    pose.add_argument("--encoder", choices=("small", "resnet18", "resnet34"), default="small")
+    pose.add_argument("--encoder", choices=("small", "resnet18", "resnet34", "efficientnet_lite0"),
+                      default="small")  # fmt: skip
+    pose.add_argument(
+        "--pretrained",
+        action="store_true",
+        help="start the encoder from ImageNet weights that install with the package "
+        "(efficientnet_lite0 only)",
+    )
     pose.add_argument("--epochs", type=int)
     pose.add_argument(
         "--windows-per-epoch",

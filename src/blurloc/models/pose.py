@@ -6,7 +6,9 @@ torchvision's resnet18/34, saved by the user to a local file, load with
 :func:`load_encoder_weights` (nothing is ever downloaded). It is written here rather than taken
 from torchvision because torchvision's wheels for this torch are built against CUDA torch and do
 not import beside the CPU build, and because the ``"small"`` encoder (widths 16-128) is not a
-width torchvision's basic-block ResNet offers. The head is an LSTM (the paper's
+width torchvision's basic-block ResNet offers. The ``"efficientnet_lite0"`` encoder
+(:mod:`.efficientnet`) is the one whose ImageNet weights install with the package (``pretrained``
+loads them when the regressor is built). The head is an LSTM (the paper's
 choice), a bidirectional LSTM, a GRU, or none (each frame alone: the PoseNet-style baseline).
 Output: position (3, metres, camera-to-world) and a unit quaternion (w, x, y, z) with w >= 0.
 """
@@ -21,27 +23,40 @@ import torch
 import torch.nn.functional as F
 from torch import nn
 
+from .efficientnet import EfficientNetLite0, load_imagenet_weights
+
 #: Encoder shapes: (blocks per stage, widths per stage).
 ENCODERS = {
     "small": ((1, 1, 1, 1), (16, 32, 64, 128)),
     "resnet18": ((2, 2, 2, 2), (64, 128, 256, 512)),
     "resnet34": ((3, 4, 6, 3), (64, 128, 256, 512)),
 }
+#: Encoders written elsewhere, with ImageNet weights that install with the package.
+PRETRAINABLE_ENCODERS = ("efficientnet_lite0",)
 HEADS = ("lstm", "bilstm", "gru", "none")
 
 
 @dataclass(frozen=True)
 class PoseConfig:
-    """Architecture of :class:`PoseRegressor`."""
+    """Architecture of :class:`PoseRegressor`.
+
+    ``pretrained`` starts the encoder from ImageNet weights that install with the package
+    (only encoders of :data:`PRETRAINABLE_ENCODERS`); otherwise it starts at random.
+    """
 
     encoder: str = "small"
     head: str = "lstm"
     hidden: int = 128
     dropout: float = 0.6
+    pretrained: bool = False
 
     def __post_init__(self) -> None:
-        if self.encoder not in ENCODERS:
-            raise ValueError(f"encoder must be one of {sorted(ENCODERS)}, got {self.encoder!r}")
+        known = sorted(ENCODERS) + list(PRETRAINABLE_ENCODERS)
+        if self.encoder not in known:
+            raise ValueError(f"encoder must be one of {known}, got {self.encoder!r}")
+        if self.pretrained and self.encoder not in PRETRAINABLE_ENCODERS:
+            raise ValueError(f"pretrained weights install only for {PRETRAINABLE_ENCODERS}, "
+                             f"not for encoder {self.encoder!r}")  # fmt: skip
         if self.head not in HEADS:
             raise ValueError(f"head must be one of {HEADS}, got {self.head!r}")
 
@@ -51,7 +66,7 @@ class PoseConfig:
         Returns
         -------
         dict
-            ``encoder``, ``head``, ``hidden`` and ``dropout``.
+            ``encoder``, ``head``, ``hidden``, ``dropout`` and ``pretrained``.
         """
         return asdict(self)
 
@@ -199,7 +214,12 @@ class PoseRegressor(nn.Module):
     def __init__(self, config: PoseConfig | None = None) -> None:
         super().__init__()
         self.config = config = config or PoseConfig()
-        self.encoder = ResNetEncoder(config.encoder)
+        if config.encoder == "efficientnet_lite0":
+            self.encoder = EfficientNetLite0(classifier=False)
+            if config.pretrained:
+                load_imagenet_weights(self.encoder)
+        else:
+            self.encoder = ResNetEncoder(config.encoder)
         features = self.encoder.features
         self.dropout = nn.Dropout(config.dropout)
         if config.head == "none":
