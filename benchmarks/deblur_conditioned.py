@@ -2,7 +2,8 @@
 (eq. 8-11) as shipped, beside the same network conditioned on each frame's blur
 (``blur_condition``): once on the package's blind estimate, once on the true blur; and beside
 the network that reads each frame's blind Wiener copy (``wiener_input``) made with the gradient
-regulariser.
+regulariser; and beside the network that reads each frame deconvolved with the kernel of its own
+motion in the video.
 
     python benchmarks/deblur_conditioned.py --root data/standin [--seeds 0 1 2]
         [--steps 1200] [--train-frames 200] [--photo-videos 14] [--test-frames 50]
@@ -23,7 +24,13 @@ scale and shift its features. Arms, one network each per seed, at one budget:
 - ``wiener``: ``wiener_input`` with ``wiener_gradient``: the encoder reads each
   frame beside its blind Wiener deconvolution by the estimated line, with the NSR that keeps the
   mean (:func:`~blurloc.models.video_deblur.wiener_guides`): a deconvolution step before the
-  recurrent refinement, told nothing.
+  recurrent refinement, told nothing;
+- ``motion``: ``wiener_input`` with ``wiener_motion``: the Wiener copies are made with the
+  kernel of each frame's exposure path, measured from the video's own motion between frames
+  (:func:`~blurloc.models.video_deblur.motion_guides`). Its tables add the Wiener step alone
+  (``motion Wiener alone``, :func:`~blurloc.video_wiener.deblur_video_motion`, no network) and
+  the network's paired difference to it, so that what the recurrent refinement adds to its
+  Wiener step is measured.
 
 ``--arms`` picks them (default: the first three; ``plain`` always runs).
 
@@ -53,8 +60,9 @@ videos; each conditioned arm minus ``plain``, paired by seed, with its 95 % t-in
 Writes ``<out-dir>/<stem>.md`` (``--stem``, default ``deblur_conditioned``) with
 ``<stem>.csv`` (gain per test set, arm and seed), ``-versus_plain.csv`` (the paired
 differences), ``-videos.csv`` (each video's gain, seeds averaged) and ``-network.csv``
-(parameters and frames per second at 160x120, blur estimate and Wiener copies included).
-Finished trainings in ``--out`` are reused.
+(parameters and frames per second at 160x120, blur estimate and Wiener copies included); with
+the motion arm also ``-motion_network_versus_its_Wiener_step.csv``. Finished trainings in
+``--out`` are reused.
 """
 
 from __future__ import annotations
@@ -92,6 +100,7 @@ from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.train.config import VideoTrainConfig
 from blurloc.train.loop import parallel_map
 from blurloc.train.video import train_video_deblur
+from blurloc.video_wiener import deblur_video_motion
 
 #: Arm -> (network settings, whether it reads the true blur).
 ARMS = {
@@ -99,7 +108,10 @@ ARMS = {
     "estimated": (VideoDeblurConfig(blur_condition=True), False),
     "told": (VideoDeblurConfig(blur_condition=True), True),
     "wiener": (VideoDeblurConfig(wiener_input=True, wiener_gradient=True), False),
+    "motion": (VideoDeblurConfig(wiener_input=True, wiener_motion=True), False),
 }
+#: The motion arm's Wiener step without the network, scored beside it.
+MOTION_WIENER = "motion Wiener alone"
 #: Sub-frames of a photo video (:func:`~blurloc.experiments.photo_video.photo_video`'s default).
 SUBFRAMES = 9
 VALIDATION_FRAMES = 30
@@ -213,6 +225,20 @@ def video_gains(job: tuple) -> dict[str, list[float]]:
     return gains
 
 
+def motion_wiener_gains(args: argparse.Namespace) -> dict[str, list[float]]:
+    """Per test set, each video's gain (dB) of the motion arm's Wiener step alone."""
+    gains = {}
+    for name, videos in test_sets(args.root, args.test_frames, args.photo_frames).items():
+        last = slice(-1, None) if name == "real GoPro pair" else slice(None)
+        gains[name] = []
+        for blurred, sharp, _ in videos:
+            output = deblur_video_motion(blurred)
+            before = [psnr(s, b, 255.0) for b, s in zip(blurred[last], sharp[last], strict=True)]
+            after = [psnr(s, o, 255.0) for o, s in zip(output[last], sharp[last], strict=True)]
+            gains[name].append(float(np.mean(after) - np.mean(before)))
+    return gains
+
+
 def throughput(model: VideoDeblurNet, frames: int = 60) -> float:
     """Frames per second at 160x120 on 2 threads over a random video (blind estimates
     included), after a warm-up."""
@@ -260,9 +286,13 @@ def main() -> None:
         seed = int(checkpoint.parent.name.rsplit("seed", 1)[1])
         for name, values in gains.items():
             by_arm.setdefault(name, {}).setdefault(arm, {})[seed] = values
+    if "motion" in arms:  # deterministic: the same gains stand beside every seed
+        for name, values in motion_wiener_gains(args).items():
+            by_arm[name][MOTION_WIENER] = {seed: values for seed in args.seeds}
 
     parameters = {arm: parameter_count(VideoDeblurNet(ARMS[arm][0])) for arm in arms}
-    gain_rows, versus_rows, video_rows = [], [], []
+    parameters[MOTION_WIENER] = 0
+    gain_rows, versus_rows, video_rows, step_rows = [], [], [], []
     for name, scored in by_arm.items():
         means = {arm: {seed: float(np.mean(v)) for seed, v in seeds.items()}
                  for arm, seeds in scored.items()}  # fmt: skip
@@ -274,17 +304,21 @@ def main() -> None:
             per_video = np.mean([seeds[seed] for seed in args.seeds], axis=0)
             video_rows += [{"test_set": name, "arm": arm, "video": index, "gain_db": round(g, 3)}
                            for index, g in enumerate(per_video)]  # fmt: skip
-        table = ablation_intervals(means, parameters, reference="plain",
+        networks = {arm: seeds for arm, seeds in means.items() if arm != MOTION_WIENER}
+        table = ablation_intervals(networks, parameters, reference="plain",
                                    below="gains less than plain",
                                    above="gains more than plain")  # fmt: skip
-        for row in table:
-            rounded = {key: round(row[key], 3) if isinstance(row.get(key), float) else
-                       row.get(key, "") for key in INTERVAL_COLUMNS}  # fmt: skip
-            versus_rows.append({"test_set": name, **rounded})
-            print(name, rounded)
+        versus_rows += [{"test_set": name, **_rounded(row)} for row in table]
+        if MOTION_WIENER in means:
+            steps = {arm: means[arm] for arm in (MOTION_WIENER, "motion")}
+            table = ablation_intervals(steps, parameters, reference=MOTION_WIENER,
+                                       below="the network loses to its Wiener step",
+                                       above="the network adds to its Wiener step")  # fmt: skip
+            step_rows += [{"test_set": name, **_rounded(row)} for row in table]
+        print(name, versus_rows[-1], step_rows[-1:] if step_rows else "")
 
     network_rows = []
-    for arm in [arm for arm in ("plain", "estimated", "wiener") if arm in arms]:
+    for arm in [arm for arm in ("plain", "estimated", "wiener", "motion") if arm in arms]:
         model = load_video_deblur(checkpoints[(arm, args.seeds[0])])
         network_rows.append({"arm": arm, "parameters": parameter_count(model),
                              "frames_per_s_2_threads": round(throughput(model), 1)})  # fmt: skip
@@ -298,9 +332,17 @@ def main() -> None:
              "Throughput on a shared 2-core machine.")  # fmt: skip
     tables = {"gains": gain_rows, "versus plain": versus_rows, "videos": video_rows,
               "network": network_rows}  # fmt: skip
+    if step_rows:
+        tables["motion network versus its Wiener step"] = step_rows
     save_benchmark_tables(args.stem, tables, args.out_dir, notes=notes,
                           title="The video network told each frame's blur: blind estimate and "
                                 "true line, beside the shipped settings")  # fmt: skip
+
+
+def _rounded(row: dict) -> dict:
+    """An interval row's columns (:data:`INTERVAL_COLUMNS`), floats to 3 decimals."""
+    return {key: round(row[key], 3) if isinstance(row.get(key), float) else row.get(key, "")
+            for key in INTERVAL_COLUMNS}  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -148,3 +148,13 @@ def test_the_kernel_of_a_curved_path_points_the_way_the_image_moved() -> None:
         restored = np.uint8(np.clip(np.array(restored) * 255 + 0.5, 0, 255))
         scores[name] = mean_frame_psnr([(restored[1:-1], sharp[1:-1])])  # inner frames
     assert scores["as measured"] > scores["turned"] + 0.5
+
+
+def test_a_kernel_larger_than_the_frame_passes_through() -> None:
+    # An 8-row strip panned 12 px per frame: its kernels (15 x 15) are taller than the strip.
+    strip = cv2.resize(skimage.data.astronaut(), (64, 8), interpolation=cv2.INTER_AREA)
+    frames = np.stack([np.roll(strip, 12 * index, axis=1) for index in range(3)])
+    motion = video_motion_kernels(frames)
+    assert all(kernel.shape[0] > 8 for kernel in motion.kernels)
+    assert min(motion.lengths_px) > 10
+    np.testing.assert_array_equal(deblur_video_motion(frames), frames)

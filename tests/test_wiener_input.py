@@ -11,11 +11,19 @@ import skimage.data
 import torch
 
 from blurloc.blur import blur_image, motion_kernel
+from blurloc.experiments.photo_video import photo_video
 from blurloc.inference import DEFAULT_CHECKPOINT, frames_from_tensor, load_video_deblur, to_tensor
 from blurloc.metrics import psnr
-from blurloc.models.video_deblur import VideoDeblurConfig, VideoDeblurNet, wiener_guides
+from blurloc.models.video_deblur import (
+    VideoDeblurConfig,
+    VideoDeblurNet,
+    motion_guides,
+    network_guides,
+    wiener_guides,
+)
 from blurloc.train.config import VideoTrainConfig
 from blurloc.train.video import load_video_splits, train_video_deblur
+from blurloc.video_wiener import deblur_video_motion
 
 TINY = VideoDeblurConfig(channels=8, hidden=4, blocks=1, wiener_input=True)
 
@@ -91,3 +99,37 @@ def test_training_with_wiener_input_learns_and_stores_the_switch(
     history = train_video_deblur(splits, tmp_path, config, progress=False)
     assert history["train_loss"][-1] < history["train_loss"][0]
     assert load_video_deblur(tmp_path / "best.pt").config.wiener_input
+
+
+def test_motion_guides_undo_the_blur_of_a_panned_photograph() -> None:
+    blurred, sharp = photo_video(skimage.data.astronaut(), 6, step_px=2.0, angle_deg=0.0,
+                                 noise_sigma=0.0, seed=0)  # fmt: skip
+    guides = frames_from_tensor(motion_guides(to_tensor(blurred)[None])[0])
+    np.testing.assert_array_equal(guides, deblur_video_motion(blurred))
+    inner = slice(1, -1)  # the end frames' paths are extrapolated
+    assert (np.mean([psnr(s, g, 255.0) for s, g in zip(sharp[inner], guides[inner], strict=True)])
+            > np.mean([psnr(s, b, 255.0) for s, b in zip(sharp[inner], blurred[inner],
+                                                          strict=True)]) + 0.5)  # fmt: skip
+    one = to_tensor(blurred[:1])[None]
+    torch.testing.assert_close(motion_guides(one), one, atol=1e-6, rtol=0)  # no motion to measure
+
+
+def test_the_network_with_wiener_motion_reads_the_motion_copies() -> None:
+    config = VideoDeblurConfig(channels=8, hidden=4, blocks=1, wiener_input=True,
+                               wiener_motion=True)  # fmt: skip
+    torch.manual_seed(0)
+    network = VideoDeblurNet(config).eval()
+    blurred, _ = photo_video(skimage.data.astronaut(), 4, step_px=2.0, angle_deg=0.0,
+                             noise_sigma=0.0, seed=0)  # fmt: skip
+    frames = to_tensor(blurred[:, :48, :64])[None]
+    with torch.no_grad():
+        computed, _ = network(frames)
+        given, _ = network(frames, guides=network_guides(frames, config))
+        blind, _ = network(frames, guides=wiener_guides(frames))
+    torch.testing.assert_close(computed, given)
+    assert (blind - given).abs().max() > 1e-5
+    with pytest.raises(ValueError, match="needs wiener_input"):
+        VideoDeblurConfig(wiener_motion=True)
+    stored = config.as_dict()
+    del stored["wiener_motion"]
+    assert not VideoDeblurConfig.from_stored(stored).wiener_motion

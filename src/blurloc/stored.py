@@ -25,13 +25,15 @@ from typing import Any
 #: checkpoints stored before them were trained with (the networks stored before
 #: ``bounded_state`` existed have unbounded states; those stored before ``wiener_input`` read
 #: the blurred frames alone; those stored before ``blur_condition`` are told no blur; those
-#: stored before ``wiener_gradient`` read eq. 4's Wiener copies).
+#: stored before ``wiener_gradient`` read eq. 4's Wiener copies, and those stored before
+#: ``wiener_motion`` read copies deblurred by each frame's blind estimate).
 VIDEO_SWITCHES_ADDED = {
     "align": False,
     "bounded_state": False,
     "wiener_input": False,
     "blur_condition": False,
     "wiener_gradient": False,
+    "wiener_motion": False,
 }
 
 

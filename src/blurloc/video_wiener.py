@@ -4,8 +4,8 @@ The blind estimate of one frame (:func:`blurloc.deconv.deblur_blind`) reads a st
 the frame's spectrum; a video also shows where the image went between frames, and so the path
 it took during each exposure (:mod:`blurloc.blur.video_motion`). Each frame is deconvolved with
 that path's kernel by Wiener's filter with the gradient regulariser
-(:func:`blurloc.deconv.wiener_deconvolve`); a frame whose path is under MIN_PATH_PX is passed
-through.
+(:func:`blurloc.deconv.wiener_deconvolve`); a frame whose path is under MIN_PATH_PX, or whose
+kernel is larger than the frame, is passed through.
 """
 
 from __future__ import annotations
@@ -73,8 +73,8 @@ def deblur_video_motion(
     restored = frames.copy()
     for index, frame in enumerate(frames):
         kernel, length = motion.kernels[index], motion.lengths_px[index]
-        if length < MIN_PATH_PX:
-            continue
+        if length < MIN_PATH_PX or any(kernel.shape[axis] > frame.shape[axis] for axis in (0, 1)):
+            continue  # no blur to undo, or a path that leaves the frame
         weight = max(blind_nsr(frame, "gradient"), min_weight)  # the blind rule, with a floor
         sharp = wiener_deconvolve(as_float_image(frame), kernel, nsr=weight, regulariser="gradient")
         restored[index] = like_input(sharp, frame)

@@ -43,6 +43,7 @@ from torch import nn
 from ..blur import estimate_motion_blur
 from ..deconv import deblur_blind
 from ..stored import VIDEO_SWITCHES_ADDED, complete
+from ..video_wiener import deblur_video_motion
 
 
 @dataclass(frozen=True)
@@ -53,8 +54,10 @@ class VideoDeblurConfig:
     hidden and auxiliary states (eq. 8-9) through tanh; ``wiener_input`` gives the network each
     frame's blind Wiener deconvolution (:func:`wiener_guides`) beside the frame, by eq. 4's
     constant NSR or, with ``wiener_gradient``, by the gradient regulariser
-    (:func:`~blurloc.deconv.wiener_deconvolve`); ``blur_condition`` modulates the features by each
-    frame's blind blur estimate (:func:`blur_descriptors`)."""
+    (:func:`~blurloc.deconv.wiener_deconvolve`), or, with ``wiener_motion``, each frame
+    deconvolved with the kernel of its own motion in the video (:func:`motion_guides`);
+    ``blur_condition`` modulates the features by each frame's blind blur estimate
+    (:func:`blur_descriptors`)."""
 
     channels: int = 32
     hidden: int = 24
@@ -68,10 +71,14 @@ class VideoDeblurConfig:
     wiener_input: bool = False
     blur_condition: bool = False
     wiener_gradient: bool = False
+    wiener_motion: bool = False
 
     def __post_init__(self) -> None:
         if self.feature_stride not in (2, 4):
             raise ValueError(f"feature_stride must be 2 or 4, got {self.feature_stride}")
+        if self.wiener_motion and not self.wiener_input:
+            raise ValueError("wiener_motion chooses the Wiener copies the network reads: it "
+                             "needs wiener_input")  # fmt: skip
 
     def as_dict(self) -> dict:
         """The settings as a plain dict (stored in checkpoints).
@@ -241,6 +248,66 @@ def guide_regulariser(config: VideoDeblurConfig) -> str:
     """The regulariser of the Wiener copies a network reads (:func:`wiener_guides`):
     ``"gradient"`` with ``config.wiener_gradient``, else eq. 4's ``"constant"``."""
     return "gradient" if config.wiener_gradient else "constant"
+
+
+def network_guides(frames: torch.Tensor, config: VideoDeblurConfig) -> torch.Tensor:
+    """The Wiener copies a network with ``wiener_input`` reads beside ``frames``: those of
+    :func:`motion_guides` with ``config.wiener_motion``, else :func:`wiener_guides` by the
+    regulariser of :func:`guide_regulariser`.
+
+    Parameters
+    ----------
+    frames : torch.Tensor
+        (N, T, 3, H, W) blurred frames in [-1, 1].
+    config : VideoDeblurConfig
+        The network's settings.
+
+    Returns
+    -------
+    torch.Tensor
+        (N, T, 3, H, W) in [-1, 1], on the device of ``frames``.
+    """
+    if config.wiener_motion:
+        return motion_guides(frames)
+    return wiener_guides(frames, guide_regulariser(config))
+
+
+def motion_guides(frames: torch.Tensor) -> torch.Tensor:
+    r"""Each video deconvolved with the kernels of its own motion between frames.
+
+    .. math::
+
+        W_t = F^{-1}\left\{ \frac{\overline{F\{c_t\}}}{|F\{c_t\}|^2 + \lambda_t |D(f)|^2}
+        \, F\{B_t\} \right\}
+
+    with :math:`c_t` the kernel of the path frame t's image took during its exposure, measured
+    from the shifts between neighbouring frames (:func:`~blurloc.video_wiener.
+    deblur_video_motion` with its defaults). A one-frame video has no motion to measure and is
+    its own copy. Computed on the 8-bit frames (rounded from the input), without gradients.
+
+    Parameters
+    ----------
+    frames : torch.Tensor
+        (N, T, 3, H, W) blurred frames in [-1, 1].
+
+    Returns
+    -------
+    torch.Tensor
+        (N, T, 3, H, W) deconvolved frames in [-1, 1], on the device of ``frames``.
+
+    References
+    ----------
+    Dong, Roth and Schiele, "Deep Wiener deconvolution: Wiener meets deep learning for image
+    deblurring", NeurIPS 2020 (a Wiener step before a learnt refinement). Not in the paper,
+    whose eq. 8-11 network reads the blurred frames alone.
+    """
+    with torch.no_grad():
+        images = frames.detach().float().movedim(-3, -1).add(1.0).mul(127.5).round().clamp(0, 255)
+        images = images.to(torch.uint8).cpu().numpy()
+        if images.shape[1] > 1:
+            images = np.stack([deblur_video_motion(video) for video in images])
+        guides = torch.from_numpy(images).float().div(127.5).sub(1.0)
+    return guides.movedim(-1, -3).to(frames.device)
 
 
 def wiener_guides(frames: torch.Tensor, regulariser: str = "constant") -> torch.Tensor:
@@ -500,7 +567,7 @@ class VideoDeblurNet(nn.Module):
         stacked = frames
         if config.wiener_input:
             if guides is None:
-                guides = wiener_guides(frames, guide_regulariser(config))
+                guides = network_guides(frames, config)
             if guides.shape != frames.shape:
                 raise ValueError(f"guides must have the frames' shape {tuple(frames.shape)}, "
                                  f"got {tuple(guides.shape)}")  # fmt: skip

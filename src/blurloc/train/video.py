@@ -26,10 +26,10 @@ from ..data.sevenscenes import SequenceFrames, list_scenes, load_split, read_ima
 from ..inference import frames_from_tensor, restore_sequence, to_tensor
 from ..metrics import mean_frame_psnr
 from ..models.video_deblur import (
+    VideoDeblurConfig,
     VideoDeblurNet,
     blur_descriptors,
-    guide_regulariser,
-    wiener_guides,
+    network_guides,
 )
 from .config import VideoTrainConfig
 from .loop import (
@@ -164,25 +164,26 @@ _MIRRORED = np.float32([1.0, 1.0, -1.0])
 
 
 def with_wiener_guides(
-    videos: list[tuple[np.ndarray, ...]], regulariser: str = "constant"
+    videos: list[tuple[np.ndarray, ...]], config: VideoDeblurConfig
 ) -> list[tuple[np.ndarray, ...]]:
     """Training videos with the Wiener copy of every blurred frame, computed once on whole
-    frames (:func:`~blurloc.models.video_deblur.wiener_guides`), so that a crop of a clip reads
-    the copy its whole frame gives, as the network computes it at inference.
+    frames and whole videos (:func:`~blurloc.models.video_deblur.network_guides`), so that a
+    crop of a clip reads the copy its whole frame gives, as the network computes it at
+    inference.
 
     Parameters
     ----------
     videos : list of (blurred, sharp, ...)
         uint8 (T, H, W, 3) pairs, possibly with more parts.
-    regulariser : str
-        The copies' regulariser (:func:`~blurloc.models.video_deblur.guide_regulariser`).
+    config : VideoDeblurConfig
+        The network's settings (which copies it reads).
 
     Returns
     -------
     list of (blurred, sharp, ..., guides)
         ``guides`` uint8 (T, H, W, 3), the Wiener copies of ``blurred``, appended.
     """
-    return [(*video, frames_from_tensor(wiener_guides(to_tensor(video[0])[None], regulariser)[0]))
+    return [(*video, frames_from_tensor(network_guides(to_tensor(video[0])[None], config)[0]))
             for video in videos]  # fmt: skip
 
 
@@ -321,7 +322,7 @@ def _train(
     if config.model.blur_condition:  # first: every video then holds its descriptors third
         videos = with_blur_descriptors(videos)
     if config.model.wiener_input:
-        videos = with_wiener_guides(videos, guide_regulariser(config.model))
+        videos = with_wiener_guides(videos, config.model)
     losses, started = [], time.perf_counter() - elapsed
     bar = tqdm(total=config.steps, initial=step, disable=not progress, desc="video deblur")
     first_step = step
