@@ -130,6 +130,8 @@ def test_the_network_with_wiener_motion_reads_the_motion_copies() -> None:
     assert (blind - given).abs().max() > 1e-5
     with pytest.raises(ValueError, match="needs wiener_input"):
         VideoDeblurConfig(wiener_motion=True)
+    with pytest.raises(ValueError, match="set one"):
+        VideoDeblurConfig(wiener_input=True, wiener_motion=True, wiener_gradient=True)
     stored = config.as_dict()
     del stored["wiener_motion"]
     assert not VideoDeblurConfig.from_stored(stored).wiener_motion

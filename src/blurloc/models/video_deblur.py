@@ -79,6 +79,9 @@ class VideoDeblurConfig:
         if self.wiener_motion and not self.wiener_input:
             raise ValueError("wiener_motion chooses the Wiener copies the network reads: it "
                              "needs wiener_input")  # fmt: skip
+        if self.wiener_motion and self.wiener_gradient:
+            raise ValueError("wiener_motion and wiener_gradient choose different Wiener "
+                             "copies: set one")  # fmt: skip
 
     def as_dict(self) -> dict:
         """The settings as a plain dict (stored in checkpoints).
@@ -510,7 +513,7 @@ class VideoDeblurNet(nn.Module):
             L_t = B_t + \mathrm{Reconstructor}(f_t, h_t, \tilde{f}_t, \tilde{h}_t)
 
         (with ``wiener_input`` the encoder reads :math:`B_t` and its Wiener copy :math:`W_t`
-        (:func:`wiener_guides`) stacked as six channels; with ``blur_condition`` the
+        (:func:`network_guides`) stacked as six channels; with ``blur_condition`` the
         full-resolution features and the features entering the recurrence are each scaled and
         shifted per channel, :math:`f \mapsto (1 + \gamma_t) f + \beta_t`, with
         :math:`(\gamma_t, \beta_t)` = MLP(:math:`d_t`) of the frame's blur descriptor
@@ -530,7 +533,9 @@ class VideoDeblurNet(nn.Module):
         guides : torch.Tensor, optional
             (N, T, 3, H, W) Wiener copies of ``frames`` for a network with ``wiener_input``
             (e.g. computed once on whole frames before cropping them); default
-            :func:`wiener_guides` of ``frames``. Ignored without ``wiener_input``.
+            :func:`network_guides` of ``frames`` (with ``wiener_motion``, the motion of this
+            clip alone: pass copies made on the whole video where clips are cut from one).
+            Ignored without ``wiener_input``.
         blur : torch.Tensor, optional
             (N, T, 3) blur descriptors of ``frames`` for a network with ``blur_condition``
             (e.g. estimated once on whole frames before cropping them, mirrored with them);

@@ -168,8 +168,9 @@ def with_wiener_guides(
 ) -> list[tuple[np.ndarray, ...]]:
     """Training videos with the Wiener copy of every blurred frame, computed once on whole
     frames and whole videos (:func:`~blurloc.models.video_deblur.network_guides`), so that a
-    crop of a clip reads the copy its whole frame gives, as the network computes it at
-    inference.
+    crop of a clip reads the copy its whole frame gives (with ``wiener_motion`` the motion of
+    the whole video: at inference a network restoring a video in chunks measures each chunk's
+    motion alone, so its first and last frames' paths are extrapolated).
 
     Parameters
     ----------
