@@ -31,7 +31,7 @@ ENCODERS = {
     "resnet18": ((2, 2, 2, 2), (64, 128, 256, 512)),
     "resnet34": ((3, 4, 6, 3), (64, 128, 256, 512)),
 }
-#: Encoders written elsewhere, with ImageNet weights that install with the package.
+#: Encoders of :mod:`.efficientnet`, whose ImageNet weights install with the package.
 PRETRAINABLE_ENCODERS = ("efficientnet_lite0",)
 HEADS = ("lstm", "bilstm", "gru", "none")
 
