@@ -70,6 +70,7 @@ from __future__ import annotations
 import argparse
 import functools
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -213,26 +214,26 @@ def video_gains(job: tuple) -> dict[str, list[float]]:
     torch.set_num_threads(1)
     model = load_video_deblur(checkpoint)
     told = arm in ARMS and ARMS[arm][1]
+    return test_set_gains(args, lambda blurred, blur: restore(model, blurred,
+                                                              blur if told else None))  # fmt: skip
+
+
+def motion_wiener_gains(args: argparse.Namespace) -> dict[str, list[float]]:
+    """Per test set, each video's gain (dB) of the motion arm's Wiener step alone."""
+    return test_set_gains(args, lambda blurred, _: deblur_video_motion(blurred))
+
+
+def test_set_gains(
+    args: argparse.Namespace, restorer: Callable[[np.ndarray, np.ndarray | None], np.ndarray]
+) -> dict[str, list[float]]:
+    """Per test set, each video's gain (dB): the mean PSNR of ``restorer(blurred, blur)``
+    minus the blurred frames' (the real pair's last frame alone)."""
     gains = {}
     for name, videos in test_sets(args.root, args.test_frames, args.photo_frames).items():
         last = slice(-1, None) if name == "real GoPro pair" else slice(None)
         gains[name] = []
         for blurred, sharp, blur in videos:
-            output = restore(model, blurred, blur if told else None)
-            before = [psnr(s, b, 255.0) for b, s in zip(blurred[last], sharp[last], strict=True)]
-            after = [psnr(s, o, 255.0) for o, s in zip(output[last], sharp[last], strict=True)]
-            gains[name].append(float(np.mean(after) - np.mean(before)))
-    return gains
-
-
-def motion_wiener_gains(args: argparse.Namespace) -> dict[str, list[float]]:
-    """Per test set, each video's gain (dB) of the motion arm's Wiener step alone."""
-    gains = {}
-    for name, videos in test_sets(args.root, args.test_frames, args.photo_frames).items():
-        last = slice(-1, None) if name == "real GoPro pair" else slice(None)
-        gains[name] = []
-        for blurred, sharp, _ in videos:
-            output = deblur_video_motion(blurred)
+            output = restorer(blurred, blur)
             before = [psnr(s, b, 255.0) for b, s in zip(blurred[last], sharp[last], strict=True)]
             after = [psnr(s, o, 255.0) for o, s in zip(output[last], sharp[last], strict=True)]
             gains[name].append(float(np.mean(after) - np.mean(before)))

@@ -20,7 +20,12 @@ import torch
 from .checkpoints import load_checkpoint
 from .data.sevenscenes import SequenceFrames
 from .models.pose import PoseConfig, PoseRegressor
-from .models.video_deblur import VideoDeblurConfig, VideoDeblurNet
+from .models.video_deblur import (
+    VideoDeblurConfig,
+    VideoDeblurNet,
+    frames_from_tensor,
+    to_tensor,
+)
 from .poses import PosePair
 from .train.config import PoseTrainConfig
 from .train.datasets import FrameCache, PoseSequenceDataset
@@ -204,40 +209,6 @@ def predict_poses(
                                                quaternion[k].cpu().numpy()))  # fmt: skip
     keys = sorted(predicted)
     return PosePair(*(np.stack([predicted[k][c] for k in keys]) for c in range(4)))
-
-
-def to_tensor(frames: np.ndarray) -> torch.Tensor:
-    """uint8 frames (..., H, W, 3) as a float tensor (..., 3, H, W) in [-1, 1].
-
-    Parameters
-    ----------
-    frames : numpy.ndarray
-        uint8, channels last.
-
-    Returns
-    -------
-    torch.Tensor
-        float32, channels before height and width, ``frames / 127.5 - 1``.
-    """
-    tensor = torch.from_numpy(np.ascontiguousarray(frames)).float().div_(127.5).sub_(1.0)
-    return tensor.movedim(-1, -3)
-
-
-def frames_from_tensor(tensor: torch.Tensor) -> np.ndarray:
-    """Float tensor (..., 3, H, W) in [-1, 1] as uint8 frames (..., H, W, 3) (rounded, clipped).
-
-    Parameters
-    ----------
-    tensor : torch.Tensor
-        Network output, any device.
-
-    Returns
-    -------
-    numpy.ndarray
-        uint8, channels last.
-    """
-    image = tensor.detach().float().movedim(-3, -1).add(1.0).mul(127.5).round().clamp(0, 255)
-    return image.to(torch.uint8).cpu().numpy()
 
 
 def restore_frames(

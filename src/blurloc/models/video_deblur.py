@@ -253,6 +253,40 @@ def guide_regulariser(config: VideoDeblurConfig) -> str:
     return "gradient" if config.wiener_gradient else "constant"
 
 
+def to_tensor(frames: np.ndarray) -> torch.Tensor:
+    """uint8 frames (..., H, W, 3) as a float tensor (..., 3, H, W) in [-1, 1].
+
+    Parameters
+    ----------
+    frames : numpy.ndarray
+        uint8, channels last.
+
+    Returns
+    -------
+    torch.Tensor
+        float32, channels before height and width, ``frames / 127.5 - 1``.
+    """
+    tensor = torch.from_numpy(np.ascontiguousarray(frames)).float().div_(127.5).sub_(1.0)
+    return tensor.movedim(-1, -3)
+
+
+def frames_from_tensor(tensor: torch.Tensor) -> np.ndarray:
+    """Float tensor (..., 3, H, W) in [-1, 1] as uint8 frames (..., H, W, 3) (rounded, clipped).
+
+    Parameters
+    ----------
+    tensor : torch.Tensor
+        Network output, any device.
+
+    Returns
+    -------
+    numpy.ndarray
+        uint8, channels last.
+    """
+    image = tensor.detach().float().movedim(-3, -1).add(1.0).mul(127.5).round().clamp(0, 255)
+    return image.to(torch.uint8).cpu().numpy()
+
+
 def network_guides(frames: torch.Tensor, config: VideoDeblurConfig) -> torch.Tensor:
     """The Wiener copies a network with ``wiener_input`` reads beside ``frames``: those of
     :func:`motion_guides` with ``config.wiener_motion``, else :func:`wiener_guides` by the
@@ -305,12 +339,10 @@ def motion_guides(frames: torch.Tensor) -> torch.Tensor:
     whose eq. 8-11 network reads the blurred frames alone.
     """
     with torch.no_grad():
-        images = frames.detach().float().movedim(-3, -1).add(1.0).mul(127.5).round().clamp(0, 255)
-        images = images.to(torch.uint8).cpu().numpy()
+        images = frames_from_tensor(frames)
         if images.shape[1] > 1:
             images = np.stack([deblur_video_motion(video) for video in images])
-        guides = torch.from_numpy(images).float().div(127.5).sub(1.0)
-    return guides.movedim(-1, -3).to(frames.device)
+    return to_tensor(images).to(frames.device)
 
 
 def wiener_guides(frames: torch.Tensor, regulariser: str = "constant") -> torch.Tensor:
@@ -350,13 +382,11 @@ def wiener_guides(frames: torch.Tensor, regulariser: str = "constant") -> torch.
     III.A.1 and eq. 4.
     """
     with torch.no_grad():
-        images = frames.detach().float().movedim(-3, -1).add(1.0).mul(127.5).round().clamp(0, 255)
-        images = images.to(torch.uint8).cpu().numpy()
+        images = frames_from_tensor(frames)
         restored = np.stack([deblur_blind(image, threshold=0.0, gated=False,
                                           regulariser=regulariser)
                              for image in images.reshape(-1, *images.shape[2:])])  # fmt: skip
-        guides = torch.from_numpy(restored.reshape(images.shape)).float().div(127.5).sub(1.0)
-    return guides.movedim(-1, -3).to(frames.device)
+    return to_tensor(restored.reshape(images.shape)).to(frames.device)
 
 
 #: Number of values that describe one frame's blur (:func:`blur_descriptor`).
