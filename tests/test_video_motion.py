@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import skimage.data
 
+from blurloc.blur import trajectory_kernel
 from blurloc.blur.video_motion import (
     calibrate_exposure_share,
     exposure_paths,
@@ -16,9 +17,10 @@ from blurloc.blur.video_motion import (
 )
 from blurloc.cli import main
 from blurloc.deconv import wiener_deconvolve
-from blurloc.experiments.photo_video import photo_video
+from blurloc.experiments.photo_video import photo_video, photo_video_motion
+from blurloc.images import linear_to_srgb, srgb_to_linear
 from blurloc.metrics import mean_frame_psnr
-from blurloc.video_wiener import deblur_video_motion
+from blurloc.video_wiener import deblur_by_kernels, deblur_video_motion
 
 
 def _panned(step: tuple[float, float], frames: int = 5) -> np.ndarray:
@@ -158,3 +160,48 @@ def test_a_kernel_larger_than_the_frame_passes_through() -> None:
     assert all(kernel.shape[0] > 8 for kernel in motion.kernels)
     assert min(motion.lengths_px) > 10
     np.testing.assert_array_equal(deblur_video_motion(frames), frames)
+
+
+def test_the_photo_videos_true_paths_are_the_blur_that_made_them() -> None:
+    """Convolving a sharp frame in linear light with the kernel of its true exposure path gives
+    the blurred frame (up to the interpolation of the sub-frames); a path turned by 90 degrees
+    does not. The middle sub-frames' positions move as frame_shifts measures."""
+    step, angle = 1.0, 20.0
+    blurred, sharp = photo_video(skimage.data.coffee(), frames=4, step_px=step,
+                                 angle_deg=angle, noise_sigma=0.0, seed=1)  # fmt: skip
+    positions = photo_video_motion(4, 9, step, angle)
+    assert positions.shape == (4, 9, 2)
+    middle = positions[:, 4]
+    np.testing.assert_allclose(frame_shifts(sharp), np.diff(middle, axis=0), atol=0.3)
+    inner = np.s_[16:-16, 16:-16]  # away from the content the pan brings in
+    for frame in range(4):
+        path = positions[frame] - middle[frame]
+        linear = srgb_to_linear(sharp[frame] / 255.0)
+
+        def error(path: np.ndarray, frame: int = frame, linear: np.ndarray = linear) -> float:
+            kernel = trajectory_kernel(path, origin=np.zeros(2))[::-1, ::-1]  # convolution
+            reblurred = linear_to_srgb(cv2.filter2D(linear, -1, kernel)) * 255
+            return float(np.sqrt(np.mean((reblurred[inner] - blurred[frame][inner]) ** 2)))
+
+        assert error(path) < 3.0 and 2 * error(path) < error(path[:, ::-1] * [1, -1])
+
+
+def test_deblur_by_kernels_is_the_restoration_step_of_deblur_video_motion() -> None:
+    blurred, sharp = photo_video(skimage.data.coffee(), frames=4, step_px=1.0, angle_deg=20.0,
+                                 noise_sigma=0.0, seed=1)  # fmt: skip
+    motion = video_motion_kernels(blurred)
+    np.testing.assert_array_equal(
+        deblur_by_kernels(blurred, motion.kernels, motion.lengths_px), deblur_video_motion(blurred)
+    )
+    positions = photo_video_motion(4, 9, 1.0, 20.0)
+    true_paths = positions - positions[:, 4:5]
+    told = deblur_by_kernels(blurred, [trajectory_kernel(path, origin=np.zeros(2))
+                                       for path in true_paths],
+                             np.array([path_length(path) for path in true_paths]))  # fmt: skip
+    assert mean_frame_psnr([(told, sharp)]) > mean_frame_psnr([(blurred, sharp)]) + 0.5
+    short = np.full(4, 0.5)  # paths under MIN_PATH_PX: passed through
+    np.testing.assert_array_equal(deblur_by_kernels(blurred, motion.kernels, short), blurred)
+    with pytest.raises(ValueError, match="one kernel and one length per frame"):
+        deblur_by_kernels(blurred, motion.kernels[:3], motion.lengths_px)
+    with pytest.raises(ValueError, match="min_weight"):
+        deblur_by_kernels(blurred, motion.kernels, motion.lengths_px, min_weight=0.0)

@@ -70,9 +70,50 @@ def deblur_video_motion(
     if not min_weight > 0:
         raise ValueError(f"min_weight must be > 0, got {min_weight}")
     motion = video_motion_kernels(frames, exposure_share)
-    restored = frames.copy()
-    for index, frame in enumerate(frames):
-        kernel, length = motion.kernels[index], motion.lengths_px[index]
+    return deblur_by_kernels(frames, motion.kernels, motion.lengths_px, min_weight)
+
+
+def deblur_by_kernels(
+    frames: np.ndarray,
+    kernels: list[np.ndarray],
+    lengths_px: np.ndarray,
+    min_weight: float = MIN_WEIGHT,
+) -> np.ndarray:
+    r"""Deconvolve each frame by its own kernel, as :func:`deblur_video_motion` does.
+
+    The restoration step of :func:`deblur_video_motion` with the kernels given: with the
+    kernels of the true exposure paths it bounds what that method can gain once its motion is
+    measured exactly (``benchmarks/motion_wiener_bounds.py``). A frame whose path is under
+    MIN_PATH_PX, or whose kernel is larger than the frame, is passed through.
+
+    Parameters
+    ----------
+    frames : numpy.ndarray
+        (T, H, W, 3) uint8 frames.
+    kernels : list of numpy.ndarray
+        T kernels, each centred on its frame's sharp instant (summing to 1).
+    lengths_px : numpy.ndarray
+        (T,) lengths of the paths the kernels were made from, px.
+    min_weight : float
+        :math:`\lambda_{\min}`, > 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        (T, H, W, 3) uint8 restored frames.
+
+    Raises
+    ------
+    ValueError
+        If the counts of frames, kernels and lengths differ, or ``min_weight`` is not positive.
+    """
+    if not len(frames) == len(kernels) == len(lengths_px):
+        raise ValueError(f"one kernel and one length per frame: {len(frames)} frames, "
+                         f"{len(kernels)} kernels, {len(lengths_px)} lengths")  # fmt: skip
+    if not min_weight > 0:
+        raise ValueError(f"min_weight must be > 0, got {min_weight}")
+    restored = np.array(frames, copy=True)
+    for index, (frame, kernel, length) in enumerate(zip(frames, kernels, lengths_px, strict=True)):
         if length < MIN_PATH_PX or any(kernel.shape[axis] > frame.shape[axis] for axis in (0, 1)):
             continue  # no blur to undo, or a path that leaves the frame
         weight = max(blind_nsr(frame, "gradient"), min_weight)  # the blind rule, with a floor

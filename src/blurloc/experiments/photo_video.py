@@ -71,15 +71,13 @@ def photo_video(
     scale = 2  # sub-frames are rendered at twice the output size, then area-averaged down
     linear = srgb_to_linear(cv2.resize(np.float32(photo), (3 * width * scale, 3 * height * scale),
                                        interpolation=cv2.INTER_AREA))  # fmt: skip
-    direction = np.array([np.cos(np.radians(angle_deg)), np.sin(np.radians(angle_deg))])
+    positions = photo_video_motion(frames, subframes, step_px, angle_deg)
     rng = np.random.default_rng(seed)
     blurred, sharp = [], []
     for frame in range(frames):
         views = []
         for sub in range(subframes):
-            time = frame * subframes + sub
-            wobble = 1.5 * np.array([np.sin(time / 7), np.cos(time / 5)])
-            origin = (np.array([width, height]) + step_px * time * direction + wobble) * scale
+            origin = (np.array([width, height]) - positions[frame, sub]) * scale  # view moves
             matrix = np.float32([[1, 0, -origin[0]], [0, 1, -origin[1]]])
             view = cv2.warpAffine(
                 linear, matrix, (width * scale, height * scale), borderMode=cv2.BORDER_REFLECT
@@ -89,6 +87,45 @@ def photo_video(
         blurred.append(to_uint8(np.mean(views, axis=0), noise))
         sharp.append(to_uint8(views[subframes // 2]))
     return np.stack(blurred), np.stack(sharp)
+
+
+def photo_video_motion(
+    frames: int, subframes: int = 9, step_px: float = 1.0, angle_deg: float = 0.0
+) -> np.ndarray:
+    r"""Where the photograph's content lies in every sub-frame of :func:`photo_video`.
+
+    The virtual camera pans by ``step_px`` per sub-frame in direction :math:`\alpha` with a
+    wobble, so the content at sub-frame :math:`n` (counted over the whole video) sits at
+
+    .. math::
+
+        p_n = -\left( n\, s \,(\cos\alpha, \sin\alpha) + 1.5\,(\sin(n/7), \cos(n/5)) \right)
+
+    px of the output frames (x right, y down). A stored frame's exposure path is its sub-frames'
+    positions less that of its middle one (its sharp frame), the path whose kernel
+    (:func:`blurloc.blur.trajectory_kernel`) blurs the sharp frame into the blurred one; the
+    middle positions' differences are the motion from frame to frame.
+
+    Parameters
+    ----------
+    frames : int
+        Stored frames.
+    subframes : int
+        Sub-frames per stored frame.
+    step_px : float
+        Pan per sub-frame, px.
+    angle_deg : float
+        Pan direction, degrees.
+
+    Returns
+    -------
+    numpy.ndarray
+        (frames, subframes, 2) content positions, px.
+    """
+    time = np.arange(frames * subframes, dtype=float)[:, None]
+    direction = np.array([np.cos(np.radians(angle_deg)), np.sin(np.radians(angle_deg))])
+    wobble = 1.5 * np.column_stack([np.sin(time[:, 0] / 7), np.cos(time[:, 0] / 5)])
+    return -(step_px * time * direction + wobble).reshape(frames, subframes, 2)
 
 
 def restoration_psnr(
