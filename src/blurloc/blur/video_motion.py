@@ -2,12 +2,12 @@
 
 A frame of a video is blurred by the motion of the image during its exposure (eq. 1), and the
 same motion moves the image from one frame to the next. Measured between consecutive frames
-(phase correlation), the motion gives each frame's path: a curve through the image positions of
-the frames before, at and after it, of which the exposure covers a share around the frame's own
-position. That share (exposure time over frame interval: about 1 for frames averaged the GoPro
-way, whose N sub-frames spread over N steps of the motion; 0.5 for a 180° shutter) is a setting
-of the camera; where it is not known it can be read from the frames' blind blur estimates where
-their sinc zeros are trusted (:func:`calibrate_exposure_share`).
+(phase correlation refined by ECC), the motion gives each frame's path: a curve through the
+image positions of the frames before, at and after it, of which the exposure covers a share
+around the frame's own position. That share (exposure time over frame interval: about 1 for
+frames averaged the GoPro way, whose N sub-frames spread over N steps of the motion; 0.5 for a
+180° shutter) is a setting of the camera; where it is not known it can be read from the frames'
+blind blur estimates where their sinc zeros are trusted (:func:`calibrate_exposure_share`).
 
 Conventions as in :mod:`blurloc.blur`: images uint8 or float in [0, 1]; displacements in px of
 the frames given, x right and y down.
@@ -33,20 +33,40 @@ PATH_POINTS = 9
 DEFAULT_EXPOSURE_SHARE = 1.0
 #: Frames whose image moves less than this (px per frame) do not calibrate the exposure share.
 CALIBRATION_MIN_MOTION_PX = 1.0
+#: Refinement of the displacement between frames by ECC (:func:`frame_shifts`): at most this
+#: many iterations,
+ECC_ITERATIONS = 30
+#: stopping once an iteration moves the displacement by less than this (px),
+ECC_STOP_PX = 1e-3
+#: on frames smoothed by a Gaussian filter this many px wide (OpenCV's default).
+ECC_SMOOTHING_PX = 5
 
 
 def frame_shifts(frames: np.ndarray) -> np.ndarray:
-    r"""The image's displacement from each frame to the next, by phase correlation.
+    r"""The image's displacement from each frame to the next: phase correlation refined by ECC.
+
+    Phase correlation gives the displacement to about a pixel,
 
     .. math::
 
-        \Delta_t = \arg\max_{x} \, F^{-1}\left\{ \frac{\overline{F\{I_t\}} F\{I_{t+1}\}}
+        \Delta_t^{(0)} = \arg\max_{x} \, F^{-1}\left\{ \frac{\overline{F\{I_t\}} F\{I_{t+1}\}}
         {|\overline{F\{I_t\}} F\{I_{t+1}\}|} \right\}(x)
 
     on the gray frames under a Hann window, refined to sub-pixel precision
-    (:func:`cv2.phaseCorrelate`). One global translation per frame pair: right for a camera
-    that turns, an approximation where parallax or a turn about the optical axis moves parts of
-    the image differently.
+    (:func:`cv2.phaseCorrelate`); on blurred frames its peak moves by each frame's own blur,
+    which weighs as much as the image at every frequency it keeps. From there the translation
+    that maximises the enhanced correlation coefficient of the two frames,
+
+    .. math::
+
+        \Delta_t = \arg\max_{\Delta} \frac{\hat{I}_t \cdot \hat{I}_{t+1}(\cdot + \Delta)}
+        {\lVert \hat{I}_t \rVert \, \lVert \hat{I}_{t+1}(\cdot + \Delta) \rVert}
+
+    (:math:`\hat{I}`: zero-mean intensities; :func:`cv2.findTransformECC`), weighs the image's
+    strong, low-frequency structure, which blur changes least. Where ECC does not converge the
+    phase correlation's displacement is kept. One global translation per frame pair: right for
+    a camera that turns, an approximation where parallax or a turn about the optical axis moves
+    parts of the image differently.
 
     Parameters
     ----------
@@ -67,16 +87,26 @@ def frame_shifts(frames: np.ndarray) -> np.ndarray:
     References
     ----------
     Kuglin and Hines, "The phase correlation image alignment method", IEEE Conference on
-    Cybernetics and Society, 1975.
+    Cybernetics and Society, 1975. Evangelidis and Psarakis, "Parametric image alignment using
+    enhanced correlation coefficient maximization", IEEE TPAMI 30(10), 2008.
     """
     if len(frames) < 2:
         raise ValueError(f"need at least 2 frames to measure motion, got {len(frames)}")
-    gray = (to_gray(frame).astype(np.float64) for frame in frames)  # two held at a time
+    gray = (to_gray(frame).astype(np.float32) for frame in frames)  # two held at a time
     first = next(gray)
-    window = cv2.createHanningWindow(first.shape[::-1], cv2.CV_64F)
-    pairs = itertools.pairwise(itertools.chain([first], gray))
-    return np.array([cv2.phaseCorrelate(previous, current, window)[0]
-                     for previous, current in pairs])  # fmt: skip
+    window = cv2.createHanningWindow(first.shape[::-1], cv2.CV_32F)
+    stop = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, ECC_ITERATIONS, ECC_STOP_PX)
+    shifts = []
+    for previous, current in itertools.pairwise(itertools.chain([first], gray)):
+        start = cv2.phaseCorrelate(previous.copy(), current.copy(), window)[0]  # windows in place
+        warp = np.float32([[1, 0, start[0]], [0, 1, start[1]]])
+        try:
+            warp = cv2.findTransformECC(previous, current, warp, cv2.MOTION_TRANSLATION, stop,
+                                        None, ECC_SMOOTHING_PX)[1]  # fmt: skip
+        except cv2.error:  # no convergence (e.g. a frame without structure): keep the start
+            pass
+        shifts.append(warp[:, 2].astype(np.float64))
+    return np.array(shifts)
 
 
 def exposure_paths(
