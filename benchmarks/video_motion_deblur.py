@@ -9,8 +9,9 @@ floor of the gradient regulariser's weight (WEIGHTS) of
 :func:`blurloc.video_wiener.deblur_video_motion` are chosen on 12 noise-free GoPro-style videos
 of the photographs that the test videos do not show
 (:func:`~blurloc.experiments.photo_video.photo_training_videos`, 12 frames each): the pair with
-the largest mean gain (the package's defaults, DEFAULT_EXPOSURE_SHARE and MIN_WEIGHT, are this
-choice). Then every method restores:
+the largest mean gain among those under which no training video loses, as the deblurring
+targets ask of the test videos (the package's defaults, DEFAULT_EXPOSURE_SHARE and MIN_WEIGHT,
+are this choice). Then every method restores:
 
 - the 15 GoPro-style photo videos of :func:`~blurloc.experiments.photo_video.photo_video_gains`
   (8 frames), without noise and with sigma = 0.01;
@@ -101,7 +102,8 @@ def gain(restore, blurred: np.ndarray, sharp: np.ndarray) -> float:
 
 def choose_settings() -> tuple[tuple[float | None, float], list[dict]]:
     """The exposure share (SHARES; None: calibrated per video) and weight floor (WEIGHTS) with
-    the largest mean gain on noise-free training photo videos, and every pair's row."""
+    the largest mean gain on noise-free training photo videos among the pairs under which no
+    video loses (all pairs where every one makes some video lose), and every pair's row."""
     videos = photo_training_videos(12, frames=12, seed=1, noise_sigma=0.0)
     rows = []
     for share in SHARES:
@@ -112,7 +114,8 @@ def choose_settings() -> tuple[tuple[float | None, float], list[dict]]:
                          "min_weight": weight, "videos": len(videos),
                          "mean_gain_db": round(float(np.mean(gains)), 3),
                          "worst_video_db": round(float(np.min(gains)), 3)})  # fmt: skip
-    best = max(rows, key=lambda row: row["mean_gain_db"])
+    harmless = [row for row in rows if row["worst_video_db"] >= 0] or rows  # none below 0 dB
+    best = max(harmless, key=lambda row: row["mean_gain_db"])
     share = None if best["exposure_share"] == "calibrated" else best["exposure_share"]
     return (share, best["min_weight"]), rows
 

@@ -19,7 +19,7 @@ from .images import as_float_image, like_input
 #: Smallest weight of the gradient regulariser, for frames without noise (chosen on GoPro-style
 #: videos of the photographs that the test videos do not show:
 #: ``benchmarks/video_motion_deblur.py``).
-MIN_WEIGHT = 0.05
+MIN_WEIGHT = 0.1
 #: Frames whose image moves less than this during the exposure (px) are passed through.
 MIN_PATH_PX = 1.0
 
