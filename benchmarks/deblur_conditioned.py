@@ -74,7 +74,6 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
-import skimage.data
 import torch
 from deblur_known_blur import blur_maker
 
@@ -82,11 +81,9 @@ from blurloc.data import list_scenes, load_split
 from blurloc.data.real import load_pairs
 from blurloc.data.stats import read_blur_metadata
 from blurloc.experiments.photo_video import (
-    PHOTO_VIDEO_PHOTOS,
-    PHOTO_VIDEO_SPEEDS,
     photo_training_lines,
     photo_training_videos,
-    photo_video,
+    photo_video_set,
 )
 from blurloc.experiments.video_ablation import INTERVAL_COLUMNS, ablation_intervals
 from blurloc.inference import frames_from_tensor, load_video_deblur, to_tensor
@@ -184,16 +181,11 @@ def test_sets(root: str, test_frames: int, photo_frames: int) -> dict[str, list[
                                                          "recorded lines"),
         "stand-in as rendered (noisy)": standin_videos(root, "test", 0, test_frames, "rendered"),
     }  # fmt: skip
-    photo_videos = []
-    for index, photo in enumerate(PHOTO_VIDEO_PHOTOS):
-        for step in PHOTO_VIDEO_SPEEDS:
-            angle = 37.0 * index
-            blurred, sharp = photo_video(getattr(skimage.data, photo)(), photo_frames,
-                                         step_px=step, angle_deg=angle, noise_sigma=0.0,
-                                         seed=index)  # fmt: skip
-            line = (SUBFRAMES * step, (-angle) % 180.0)
-            photo_videos.append((blurred, sharp, true_descriptors([line] * photo_frames)))
-    sets["photo videos, no noise"] = photo_videos
+    sets["photo videos, no noise"] = [
+        (video.blurred, video.sharp,
+         true_descriptors([(SUBFRAMES * video.step_px, (-video.angle_deg) % 180.0)] * photo_frames))
+        for video in photo_video_set(photo_frames, noise_sigma=0.0)
+    ]  # fmt: skip
     sets["real GoPro pair"] = [(np.stack([blurred] * 3), np.stack([sharp] * 3), None)
                                for _, blurred, sharp in load_pairs()]  # fmt: skip
     return sets

@@ -36,16 +36,11 @@ import argparse
 import time
 
 import numpy as np
-import skimage.data
+from video_motion_deblur import lead
 
 from blurloc.blur import exposure_paths, frame_shifts, trajectory_kernel
 from blurloc.blur.video_motion import path_length
-from blurloc.experiments.photo_video import (
-    PHOTO_VIDEO_PHOTOS,
-    PHOTO_VIDEO_SPEEDS,
-    photo_video,
-    photo_video_motion,
-)
+from blurloc.experiments.photo_video import photo_video_motion, photo_video_set
 from blurloc.intervals import paired_interval
 from blurloc.metrics import mean_frame_psnr
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
@@ -61,16 +56,11 @@ METHOD = "measured motion"
 
 
 def test_videos(noise_sigma: float):
-    """The photo-video set of ``photo_video_gains``: (label, blurred, sharp, content positions)
-    for every photograph and pan speed, direction 37 degrees times the photograph's index."""
-    for index, photo in enumerate(PHOTO_VIDEO_PHOTOS):
-        image = getattr(skimage.data, photo)()
-        for step in PHOTO_VIDEO_SPEEDS:
-            angle = 37.0 * index
-            blurred, sharp = photo_video(image, FRAMES, SUBFRAMES, step, angle,
-                                         noise_sigma=noise_sigma, seed=index)  # fmt: skip
-            yield (f"{photo} {step} px", blurred, sharp,
-                   photo_video_motion(FRAMES, SUBFRAMES, step, angle))  # fmt: skip
+    """The photo-video set (:func:`~blurloc.experiments.photo_video.photo_video_set`):
+    (label, blurred, sharp, content positions) per video."""
+    for video in photo_video_set(FRAMES, noise_sigma):
+        yield (f"{video.photo} {video.step_px} px", video.blurred, video.sharp,
+               photo_video_motion(FRAMES, SUBFRAMES, video.step_px, video.angle_deg))  # fmt: skip
 
 
 def path_sets(blurred: np.ndarray, positions: np.ndarray) -> tuple[dict, np.ndarray]:
@@ -85,15 +75,6 @@ def path_sets(blurred: np.ndarray, positions: np.ndarray) -> tuple[dict, np.ndar
         "true exposure path": list(positions - middle[:, None, :]),
     }
     return paths, np.linalg.norm(measured - true_shifts, axis=1)
-
-
-def lead(interval) -> str:
-    """The verdict on a path minus the method, worded from its interval."""
-    if interval.low > 0:
-        return "higher"
-    if interval.high < 0:
-        return "lower"
-    return f"not resolved (±{interval.half_width:.2f} dB)"
 
 
 def video_gain(restored: np.ndarray, blurred: np.ndarray, sharp: np.ndarray, border: int) -> float:
@@ -146,7 +127,7 @@ def main() -> None:
             interval = paired_interval(np.array(values) - reference, method="t")
             row.update({"minus_method_db": round(interval.mean, 3),
                         "ci_low": round(interval.low, 3), "ci_high": round(interval.high, 3),
-                        "verdict": lead(interval)})  # fmt: skip
+                        "verdict": lead(interval, "the path")})  # fmt: skip
         summary.append(row)
     notes = (f"The 15 photo videos of photo_video_gains ({FRAMES} frames, {SUBFRAMES} sub-frames "
              "each), every frame deconvolved by deblur_by_kernels (the restoration step of "

@@ -80,12 +80,12 @@ def standin_scores(root: Path, frames: int):
                             for label, blurred, sharp in videos]  # fmt: skip
 
 
-def lead(interval: Interval) -> str:
-    """The verdict on video_motion minus another method, worded from its interval."""
+def lead(interval: Interval, subject: str = "video_motion") -> str:
+    """The verdict on ``subject`` minus another method, worded from its interval."""
     if interval.low > 0:
-        return "video_motion higher"
+        return f"{subject} higher"
     if interval.high < 0:
-        return "video_motion lower"
+        return f"{subject} lower"
     return f"not resolved (±{interval.half_width:.2f} dB)"
 
 

@@ -3,7 +3,8 @@ training videos from other photographs."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 
 import cv2
 import numpy as np
@@ -156,9 +157,7 @@ def photo_video_gains(
 ) -> list[dict]:
     """PSNR gain of a video restorer on the photo-video set, one row per video.
 
-    Every photograph of :data:`PHOTO_VIDEO_PHOTOS` is panned at every speed of
-    :data:`PHOTO_VIDEO_SPEEDS` (:func:`photo_video`; direction 37° times the photo's index, noise
-    seeded by it) and restored as one video.
+    Every video of :func:`photo_video_set` is restored as one video.
 
     Parameters
     ----------
@@ -179,15 +178,51 @@ def photo_video_gains(
         (mean PSNR over the frames, eq. 6, against the sharp middle sub-frames).
     """
     rows = []
+    for video in photo_video_set(frames, noise_sigma):
+        before, after = restoration_psnr(restore, video.blurred, video.sharp)
+        rows.append({"photo": video.photo, "step_px": video.step_px, "blurred_psnr_db": before,
+                     "restored_psnr_db": after, "gain_db": after - before})  # fmt: skip
+    return rows
+
+
+@dataclass(frozen=True)
+class PhotoVideo:
+    """One video of :func:`photo_video_set`: the photograph's name, the pan (``step_px`` per
+    sub-frame in direction ``angle_deg``) and the uint8 ``blurred`` and ``sharp`` frames."""
+
+    photo: str
+    step_px: float
+    angle_deg: float
+    blurred: np.ndarray
+    sharp: np.ndarray
+
+
+def photo_video_set(frames: int = 8, noise_sigma: float = 0.01) -> Iterator[PhotoVideo]:
+    """The photo-video set, one video at a time.
+
+    Every photograph of :data:`PHOTO_VIDEO_PHOTOS` panned at every speed of
+    :data:`PHOTO_VIDEO_SPEEDS` (:func:`photo_video`, 9 sub-frames per frame), in direction 37°
+    times the photograph's index, its noise seeded by that index; the true motion of each is
+    :func:`photo_video_motion` of its pan.
+
+    Parameters
+    ----------
+    frames : int
+        Stored frames per video.
+    noise_sigma : float
+        Sensor noise of the blurred frames (:func:`photo_video`).
+
+    Yields
+    ------
+    PhotoVideo
+    """
     for index, photo in enumerate(PHOTO_VIDEO_PHOTOS):
         image = getattr(skimage.data, photo)()
+        angle = 37.0 * index
         for step in PHOTO_VIDEO_SPEEDS:
-            blurred, sharp = photo_video(image, frames, step_px=step, angle_deg=37.0 * index,
+            blurred, sharp = photo_video(image, frames, step_px=step, angle_deg=angle,
                                          noise_sigma=noise_sigma, seed=index)  # fmt: skip
-            before, after = restoration_psnr(restore, blurred, sharp)
-            rows.append({"photo": photo, "step_px": step, "blurred_psnr_db": before,
-                         "restored_psnr_db": after, "gain_db": after - before})  # fmt: skip
-    return rows
+            yield PhotoVideo(photo, step, angle, blurred, sharp)
 
 
 def photo_training_videos(
