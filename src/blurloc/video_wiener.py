@@ -4,15 +4,17 @@ The blind estimate of one frame (:func:`blurloc.deconv.deblur_blind`) reads a st
 the frame's spectrum; a video also shows where the image went between frames, and so the path
 it took during each exposure (:mod:`blurloc.blur.video_motion`). Each frame is deconvolved with
 that path's kernel by Wiener's filter with the gradient regulariser
-(:func:`blurloc.deconv.wiener_deconvolve`); a frame whose path is under MIN_PATH_PX, or whose
-kernel is larger than the frame, is passed through.
+(:func:`blurloc.deconv.wiener_deconvolve`); where the image moves differently in different
+parts of the frame (a turn about the optical axis, a move along it), with the kernels of a grid
+of points, blended. A frame whose path is under MIN_PATH_PX, or whose kernel is larger than the
+frame, is passed through.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .blur.video_motion import DEFAULT_EXPOSURE_SHARE, video_motion_kernels
+from .blur.video_motion import DEFAULT_EXPOSURE_SHARE, LOCAL_GRID, grid_points, local_motion_kernels
 from .deconv import blind_nsr, wiener_deconvolve
 from .images import as_float_image, like_input
 
@@ -28,16 +30,19 @@ def deblur_video_motion(
     frames: np.ndarray,
     exposure_share: float | None = DEFAULT_EXPOSURE_SHARE,
     min_weight: float = MIN_WEIGHT,
+    grid: int = LOCAL_GRID,
 ) -> np.ndarray:
     r"""Deblur a video frame by frame with kernels from its own motion.
 
     .. math::
 
-        \tilde{x}_t = F^{-1}\left\{ \frac{\overline{F\{c_t\}}}{|F\{c_t\}|^2
-        + \lambda_t |D(f)|^2} \, F\{b_t\} \right\}
+        \tilde{x}_t = \sum_j w_j \, F^{-1}\left\{ \frac{\overline{F\{c_{t,j}\}}}
+        {|F\{c_{t,j}\}|^2 + \lambda_t |D(f)|^2} \, F\{b_t\} \right\}
 
-    with :math:`c_t` the kernel of frame t's exposure path
-    (:func:`~blurloc.blur.video_motion.video_motion_kernels`) and :math:`\lambda_t` = the larger
+    with :math:`c_{t,j}` the kernel of frame t's exposure path at grid point j
+    (:func:`~blurloc.blur.video_motion.local_motion_kernels`; one point, the frame's centre,
+    where the image moves as one), :math:`w_j` bilinear weights that are 1 at point j and fall
+    to 0 at its neighbours (:func:`deblur_by_local_kernels`), and :math:`\lambda_t` = the larger
     of blind deblurring's weight (:func:`~blurloc.deconv.blind_nsr`: GRADIENT_WEIGHT_PER_NOISE
     σ_t) and ``min_weight``.
 
@@ -51,6 +56,9 @@ def deblur_video_motion(
         the frames' blind estimates (:func:`~blurloc.blur.video_motion.calibrate_exposure_share`).
     min_weight : float
         :math:`\lambda_{\min}`, > 0.
+    grid : int
+        Points per side of the grid of kernels (>= 1; 1: one translation per frame pair, one
+        kernel per frame).
 
     Returns
     -------
@@ -60,8 +68,8 @@ def deblur_video_motion(
     Raises
     ------
     ValueError
-        If ``frames`` is not a (T, H, W, 3) uint8 video of at least two frames, or
-        ``exposure_share`` or ``min_weight`` is not positive.
+        If ``frames`` is not a (T, H, W, 3) uint8 video of at least two frames,
+        ``exposure_share`` or ``min_weight`` is not positive, or ``grid`` < 1.
     """
     frames = np.asarray(frames)
     if frames.ndim != 4 or frames.shape[-1] != 3 or frames.dtype != np.uint8 or len(frames) < 2:
@@ -69,8 +77,9 @@ def deblur_video_motion(
                          f"{frames.shape} {frames.dtype}")  # fmt: skip
     if not min_weight > 0:
         raise ValueError(f"min_weight must be > 0, got {min_weight}")
-    motion = video_motion_kernels(frames, exposure_share)
-    return deblur_by_kernels(frames, motion.kernels, motion.lengths_px, min_weight)
+    motion = local_motion_kernels(frames, exposure_share, grid)
+    return deblur_by_local_kernels(frames, motion.kernels, motion.lengths_px, motion.grid,
+                                   min_weight)  # fmt: skip
 
 
 def deblur_by_kernels(
@@ -110,13 +119,96 @@ def deblur_by_kernels(
     if not len(frames) == len(kernels) == len(lengths_px):
         raise ValueError(f"one kernel and one length per frame: {len(frames)} frames, "
                          f"{len(kernels)} kernels, {len(lengths_px)} lengths")  # fmt: skip
+    return deblur_by_local_kernels(frames, [[kernel] for kernel in kernels],
+                                   np.reshape(lengths_px, (-1, 1)), 1, min_weight)  # fmt: skip
+
+
+def deblur_by_local_kernels(
+    frames: np.ndarray,
+    kernels: list[list[np.ndarray]],
+    lengths_px: np.ndarray,
+    grid: int,
+    min_weight: float = MIN_WEIGHT,
+) -> np.ndarray:
+    r"""Deconvolve each frame by the kernels of a grid of points, blended.
+
+    Frame t is deconvolved with each point's kernel :math:`c_{t,j}` over the whole frame (the
+    step of :func:`deblur_by_kernels`), and the results are blended with bilinear weights
+    :math:`w_j(x) = \max(0, 1 - |x - x_j| / g_x) \max(0, 1 - |y - y_j| / g_y)` (:math:`g`:
+    the grid's spacing; constant beyond the outermost points), which sum to 1 at every pixel:
+    the restoration follows a blur that changes smoothly across the frame. A point whose path
+    is under MIN_PATH_PX, or whose kernel is larger than the frame, contributes the frame as it
+    is; a frame where every point's does is passed through.
+
+    Parameters
+    ----------
+    frames : numpy.ndarray
+        (T, H, W, 3) uint8 frames.
+    kernels : list of list of numpy.ndarray
+        T lists of ``grid`` squared kernels, at :func:`~blurloc.blur.video_motion.grid_points`
+        row by row, each centred on its frame's sharp instant (summing to 1).
+    lengths_px : numpy.ndarray
+        (T, grid squared) lengths of the paths the kernels were made from, px.
+    grid : int
+        Points per side, >= 1.
+    min_weight : float
+        :math:`\lambda_{\min}`, > 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        (T, H, W, 3) uint8 restored frames.
+
+    Raises
+    ------
+    ValueError
+        If the counts of frames, kernels and lengths differ, or ``min_weight`` is not positive.
+    """
+    lengths_px = np.asarray(lengths_px, float)
+    if (
+        not len(frames) == len(kernels) == len(lengths_px)
+        or grid < 1
+        or any(len(frame_kernels) != grid * grid for frame_kernels in kernels)
+        or lengths_px.shape[1:] != (grid * grid,)
+    ):
+        raise ValueError(f"one kernel and one length per frame and grid point: {len(frames)} "
+                         f"frames, {len(kernels)} kernel lists, lengths {lengths_px.shape}, "
+                         f"grid {grid}")  # fmt: skip
     if not min_weight > 0:
         raise ValueError(f"min_weight must be > 0, got {min_weight}")
     restored = np.array(frames, copy=True)
-    for index, (frame, kernel, length) in enumerate(zip(frames, kernels, lengths_px, strict=True)):
-        if length < MIN_PATH_PX or any(kernel.shape[axis] > frame.shape[axis] for axis in (0, 1)):
-            continue  # no blur to undo, or a path that leaves the frame
+    weights = _blend_weights(frames.shape[1], frames.shape[2], grid)
+    for index, frame in enumerate(frames):
+        usable = [
+            length >= MIN_PATH_PX
+            and all(kernel.shape[axis] <= frame.shape[axis] for axis in (0, 1))
+            for kernel, length in zip(kernels[index], lengths_px[index], strict=True)
+        ]
+        if not any(usable):
+            continue  # no blur to undo, or paths that leave the frame
         weight = max(blind_nsr(frame, "gradient"), min_weight)  # the blind rule, with a floor
-        sharp = wiener_deconvolve(as_float_image(frame), kernel, nsr=weight, regulariser="gradient")
-        restored[index] = like_input(sharp, frame)
+        image = as_float_image(frame)
+        blend = 0.0
+        for point, kernel in enumerate(kernels[index]):
+            sharp = (wiener_deconvolve(image, kernel, nsr=weight, regulariser="gradient")
+                     if usable[point] else image)  # fmt: skip
+            blend = blend + weights[point][..., None] * sharp
+        restored[index] = like_input(blend, frame)
     return restored
+
+
+def _blend_weights(height: int, width: int, grid: int) -> np.ndarray:
+    """(grid squared, H, W) bilinear weights of the points of
+    :func:`~blurloc.blur.video_motion.grid_points`, summing to 1 at every pixel."""
+    points = grid_points(height, width, grid)
+    along = []
+    for coordinates, centres in ((np.arange(height) + 0.5, points[::grid, 1]),
+                                 (np.arange(width) + 0.5, points[:grid, 0])):  # fmt: skip
+        if grid == 1:
+            along.append(np.ones((1, len(coordinates))))
+            continue
+        clipped = np.clip(coordinates, centres[0], centres[-1])
+        spacing = centres[1] - centres[0]
+        along.append(np.maximum(0.0, 1.0 - np.abs(clipped[None, :] - centres[:, None]) / spacing))
+    rows, columns = along
+    return np.einsum("iy,jx->ijyx", rows, columns).reshape(grid * grid, height, width)

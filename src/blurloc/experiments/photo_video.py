@@ -34,12 +34,19 @@ def photo_video(
     size: tuple[int, int] = (160, 120),
     noise_sigma: float = 0.01,
     seed: int = 0,
+    roll_deg: float = 0.0,
+    zoom: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """A blurred video made the GoPro way from a still photograph.
 
     A virtual high-frame-rate camera pans over ``photo`` (with a small wobble); each stored
     frame is the mean of ``subframes`` consecutive sub-frames in linear light (gamma 2.2) plus
-    noise, its sharp frame the middle sub-frame.
+    noise, its sharp frame the middle sub-frame. With ``roll_deg`` or ``zoom`` the camera also
+    turns about its optical axis, or moves towards the photograph, by that much per sub-frame
+    (sub-frame n of the video is turned by n ``roll_deg`` and magnified by 1 + n ``zoom`` about
+    the frame's centre): the image then moves differently in different parts of the frame, as
+    it does in real footage, and :func:`photo_video_motion` gives the motion of the frame's
+    centre only.
 
     Parameters
     ----------
@@ -59,6 +66,11 @@ def photo_video(
         Gaussian noise on the gamma-encoded [0, 1] intensities.
     seed : int
         Seed of the noise.
+    roll_deg : float
+        Turn about the optical axis per sub-frame, degrees (counter-clockwise in the image).
+    zoom : float
+        Relative magnification per sub-frame (0.003: 0.3 % larger each sub-frame), > -1 /
+        (frames x subframes).
 
     Returns
     -------
@@ -80,6 +92,13 @@ def photo_video(
         for sub in range(subframes):
             origin = (np.array([width, height]) - positions[frame, sub]) * scale  # view moves
             matrix = np.float32([[1, 0, -origin[0]], [0, 1, -origin[1]]])
+            if roll_deg or zoom:  # then turn and magnify about the frame's centre
+                count = frame * subframes + sub
+                turn = cv2.getRotationMatrix2D((width * scale / 2, height * scale / 2),
+                                               roll_deg * count, 1.0 + zoom * count)  # fmt: skip
+                matrix = np.float32(
+                    np.column_stack([turn[:, :2], turn[:, :2] @ -origin + turn[:, 2]])
+                )
             view = cv2.warpAffine(
                 linear, matrix, (width * scale, height * scale), borderMode=cv2.BORDER_REFLECT
             )  # bilinear
@@ -197,7 +216,9 @@ class PhotoVideo:
     sharp: np.ndarray
 
 
-def photo_video_set(frames: int = 8, noise_sigma: float = 0.01) -> Iterator[PhotoVideo]:
+def photo_video_set(
+    frames: int = 8, noise_sigma: float = 0.01, roll_deg: float = 0.0, zoom: float = 0.0
+) -> Iterator[PhotoVideo]:
     """The photo-video set, one video at a time.
 
     Every photograph of :data:`PHOTO_VIDEO_PHOTOS` panned at every speed of
@@ -211,6 +232,9 @@ def photo_video_set(frames: int = 8, noise_sigma: float = 0.01) -> Iterator[Phot
         Stored frames per video.
     noise_sigma : float
         Sensor noise of the blurred frames (:func:`photo_video`).
+    roll_deg, zoom : float
+        The camera's turn about its optical axis and magnification per sub-frame
+        (:func:`photo_video`; with either, the true motion of the centre only).
 
     Yields
     ------
@@ -221,7 +245,8 @@ def photo_video_set(frames: int = 8, noise_sigma: float = 0.01) -> Iterator[Phot
         angle = 37.0 * index
         for step in PHOTO_VIDEO_SPEEDS:
             blurred, sharp = photo_video(image, frames, step_px=step, angle_deg=angle,
-                                         noise_sigma=noise_sigma, seed=index)  # fmt: skip
+                                         noise_sigma=noise_sigma, seed=index,
+                                         roll_deg=roll_deg, zoom=zoom)  # fmt: skip
             yield PhotoVideo(photo, step, angle, blurred, sharp)
 
 
