@@ -10,8 +10,9 @@ the restoration step of :func:`blurloc.video_wiener.deblur_video_motion`
 (:func:`~blurloc.video_wiener.deblur_by_kernels`: the gradient regulariser, its weight the
 blind rule with a floor) with the kernel of one of three paths:
 
-- ``measured motion``: the method as shipped, the 3-point path through the positions measured
-  between the blurred frames (:func:`~blurloc.blur.frame_shifts`);
+- ``measured motion``: the method with one kernel per frame (``deblur_video_motion(...,
+  grid=1)``; these pans move the whole image as one), the 3-point path through the positions
+  measured between the blurred frames (:func:`~blurloc.blur.frame_shifts`);
 - ``true positions, 3-point path``: the same path model through the true frame positions, so
   that only the measurement of the motion is removed;
 - ``true exposure path``: the path the pan took during each exposure (its wobble included),

@@ -14,13 +14,17 @@ targets ask of the test videos (the package's defaults, DEFAULT_EXPOSURE_SHARE a
 are this choice). Then every method restores:
 
 - the 15 GoPro-style photo videos of :func:`~blurloc.experiments.photo_video.photo_video_gains`
-  (8 frames), without noise and with sigma = 0.01;
+  (8 frames), without noise and with sigma = 0.01, and without noise with the camera also
+  turning about its optical axis or moving towards the photograph (TURNING_SETS), where the
+  image moves differently in different parts of the frame;
 - the first ``--frames`` frames of every test sequence of ``--standin`` (as rendered, with the
   camera model's noise) and, when given, of ``--clean-standin`` (a render without any noise:
   ``blurloc synth --out data/standin-clean-s8 --frames 60 --seed 8 --shot-noise 0
   --read-noise 0 --noise 0``), against the sharp renders.
 
-Methods: ``video_motion`` (the chosen settings), the same with the share calibrated per video and,
+Methods: ``video_motion`` (the chosen settings, a 3 x 3 grid of kernels per frame), the same with
+one kernel per frame (``grid=1``: one translation between frames), with the share calibrated per
+video and,
 on the stand-in, with its camera's own exposure share (the render's blur strength, its exposure
 in frame intervals: a camera setting, not the blur of any frame; the photo videos' own share,
 9 sub-frames over 9 steps of the pan, is 1.0, the chosen one), ``blind_per_frame``
@@ -60,13 +64,21 @@ SHARES = (None, 0.9, 1.0, 1.2)
 #: The photo videos' exposure share: 9 sub-frames of the pan averaged into a frame that is 9
 #: sub-frame steps long.
 PHOTO_VIDEO_SHARE = 1.0
+#: The same photo videos with the camera also turning about its optical axis or moving towards
+#: the photograph, per sub-frame (label, roll_deg, zoom): the image moves differently in
+#: different parts of the frame, as in real footage (0.3 degrees per sub-frame turns a 160 px
+#: frame's corner by about 2.5 px per frame).
+TURNING_SETS = (("turning 0.1 deg", 0.1, 0.0), ("turning 0.3 deg", 0.3, 0.0),
+                ("moving forward 0.3 %", 0.0, 0.003))  # fmt: skip
 
 
-def photo_video_scores(noise_sigma: float):
+def photo_video_scores(noise_sigma: float, roll_deg: float = 0.0, zoom: float = 0.0):
     """A function of a restorer: its (label, gain) on the 15 test photo videos (8 frames) at
-    ``noise_sigma`` (:func:`~blurloc.experiments.photo_video.photo_video_gains`)."""
+    ``noise_sigma``, the camera turning and magnifying by ``roll_deg`` and ``zoom`` per
+    sub-frame (:func:`~blurloc.experiments.photo_video.photo_video_gains`)."""
     return lambda restore: [(f"{row['photo']} {row['step_px']} px", row["gain_db"])
-                            for row in photo_video_gains(restore, 8, noise_sigma)]  # fmt: skip
+                            for row in photo_video_gains(restore, 8, noise_sigma, roll_deg,
+                                                         zoom)]  # fmt: skip
 
 
 def standin_scores(root: Path, frames: int):
@@ -140,6 +152,9 @@ def main() -> None:
     def methods(camera_share: float) -> dict:
         chosen = {
             "video_motion": lambda v: deblur_video_motion(v, share, weight),
+            "video_motion, one kernel per frame": lambda v: deblur_video_motion(
+                v, share, weight, grid=1
+            ),
             "video_motion, calibrated share": lambda v: deblur_video_motion(v, None, weight),
             "blind_per_frame": lambda v: np.stack([deblur_blind(frame) for frame in v]),
             "network": network,
@@ -151,6 +166,9 @@ def main() -> None:
 
     sets = {"photo videos, no noise": (PHOTO_VIDEO_SHARE, photo_video_scores(0.0)),
             "photo videos, sigma 0.01": (PHOTO_VIDEO_SHARE, photo_video_scores(0.01))}  # fmt: skip
+    for label, roll, zoom in TURNING_SETS:
+        score = photo_video_scores(0.0, roll, zoom)
+        sets[f"photo videos, no noise, {label}"] = (PHOTO_VIDEO_SHARE, score)
     for name, root in (("stand-in as rendered (noisy)", args.standin),
                        ("stand-in without noise", args.clean_standin)):  # fmt: skip
         if root is not None:

@@ -77,9 +77,10 @@ def frame_shifts(frames: np.ndarray) -> np.ndarray:
     optimum: a displacement that departs from a neighbouring pair's by more than
     NEIGHBOUR_RESTART_PX and more than half the neighbour's length is refined again from that
     neighbour's (a camera's motion changes little from one frame to the next), and the
-    alignment with the larger correlation coefficient is kept, over two passes. One global translation per frame pair: right for a
-    camera that turns, an approximation where parallax or a turn about the optical axis moves
-    parts of the image differently (:func:`frame_warps`).
+    alignment with the larger correlation coefficient is kept, over two passes. One global
+    translation per frame pair: right for a camera that turns, an approximation where parallax
+    or a turn about the optical axis moves parts of the image differently
+    (:func:`frame_warps`).
 
     Parameters
     ----------

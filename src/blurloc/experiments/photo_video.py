@@ -172,7 +172,11 @@ def restoration_psnr(
 
 
 def photo_video_gains(
-    restore: Callable[[np.ndarray], np.ndarray], frames: int = 8, noise_sigma: float = 0.01
+    restore: Callable[[np.ndarray], np.ndarray],
+    frames: int = 8,
+    noise_sigma: float = 0.01,
+    roll_deg: float = 0.0,
+    zoom: float = 0.0,
 ) -> list[dict]:
     """PSNR gain of a video restorer on the photo-video set, one row per video.
 
@@ -189,6 +193,9 @@ def photo_video_gains(
         Sensor noise of the blurred frames (:func:`photo_video`); the default is the stand-in's.
         Real footage averaged the GoPro way has less: averaging N frames divides a frame's
         noise by about sqrt(N).
+    roll_deg, zoom : float
+        The camera's turn about its optical axis and magnification per sub-frame
+        (:func:`photo_video`).
 
     Returns
     -------
@@ -197,7 +204,7 @@ def photo_video_gains(
         (mean PSNR over the frames, eq. 6, against the sharp middle sub-frames).
     """
     rows = []
-    for video in photo_video_set(frames, noise_sigma):
+    for video in photo_video_set(frames, noise_sigma, roll_deg, zoom):
         before, after = restoration_psnr(restore, video.blurred, video.sharp)
         rows.append({"photo": video.photo, "step_px": video.step_px, "blurred_psnr_db": before,
                      "restored_psnr_db": after, "gain_db": after - before})  # fmt: skip
