@@ -133,10 +133,18 @@ def test_deblur_video_cli_restores_a_folder_with_the_motion_method(
     restored = np.stack([cv2.imread(str(out / f"frame-{i:03d}.png"))[..., ::-1] for i in range(4)])
     np.testing.assert_array_equal(restored, deblur_video_motion(blurred))
     assert mean_frame_psnr([(restored, sharp)]) > mean_frame_psnr([(blurred, sharp)])
+    assert main(["deblur-video", str(folder), str(tmp_path / "one"), "--method", "motion",
+                 "--grid", "1"]) == 0  # fmt: skip
+    one = np.stack([cv2.imread(str(tmp_path / "one" / f"frame-{i:03d}.png"))[..., ::-1]
+                    for i in range(4)])  # fmt: skip
+    np.testing.assert_array_equal(one, deblur_video_motion(blurred, grid=1))
+    capsys.readouterr()
     for wrong, message in (
         (["--method", "motion", "--exposure-share", "0"], "must be > 0"),
         (["--exposure-share", "0.5"], "is for --method motion"),
         (["--method", "motion", "--checkpoint", "x.pt"], "no network"),
+        (["--method", "motion", "--grid", "0"], "--grid must be >= 1"),
+        (["--grid", "2"], "--grid is for --method motion"),
     ):
         assert main(["deblur-video", str(folder), str(tmp_path / "o2"), *wrong]) == 1
         assert message in capsys.readouterr().err

@@ -192,6 +192,10 @@ def _deblur_video(args: argparse.Namespace) -> int:
         raise ValueError("--exposure-share is for --method motion")
     if args.exposure_share is not None and not args.exposure_share > 0:
         raise ValueError(f"--exposure-share must be > 0, got {args.exposure_share}")
+    if args.grid is not None and args.method != "motion":
+        raise ValueError("--grid is for --method motion")
+    if args.grid is not None and args.grid < 1:
+        raise ValueError(f"--grid must be >= 1, got {args.grid}")
     model = (
         None
         if args.method == "motion"
@@ -208,7 +212,8 @@ def _deblur_video(args: argparse.Namespace) -> int:
                              "RGB frames only and would change it (convert the frames, or use "
                              "`blurloc deblur`, which keeps depth and channels)")  # fmt: skip
     if args.method == "motion":  # the whole video in memory: each frame's path needs its neighbours
-        options = {} if args.exposure_share is None else {"exposure_share": args.exposure_share}
+        given = {"exposure_share": args.exposure_share, "grid": args.grid}
+        options = {name: value for name, value in given.items() if value is not None}
         restored = deblur_video_motion(np.stack(list(read_frames(paths))), **options)
     else:
         restored = restore_frames(model, read_frames(paths))  # streamed: one chunk at a time
@@ -294,6 +299,10 @@ def add_deblur_video_parser(commands: argparse._SubParsersAction) -> None:
                        help="with --method motion: exposure time over frame interval (default: "
                             "that of frames averaged the GoPro way; 0.5 for a 180-degree "
                             "shutter)")  # fmt: skip
+    video.add_argument("--grid", type=int,
+                       help="with --method motion: kernels per side of a grid over each frame, "
+                            "for a camera that turns about its optical axis or moves along it "
+                            "(default 3; 1: one kernel per frame)")  # fmt: skip
     video.add_argument("--checkpoint", help="network checkpoint (default: the shipped one)")
     video.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
     video.set_defaults(handler=_deblur_video)
