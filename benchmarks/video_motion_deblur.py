@@ -22,9 +22,9 @@ are this choice). Then every method restores:
   ``blurloc synth --out data/standin-clean-s8 --frames 60 --seed 8 --shot-noise 0
   --read-noise 0 --noise 0``), against the sharp renders.
 
-Methods: ``video_motion`` (the chosen settings, a 3 x 3 grid of kernels per frame), the same with
-one kernel per frame (``grid=1``: one translation between frames), with the share calibrated per
-video and,
+Methods: ``video_motion`` (the chosen settings, a 3 x 3 grid of kernels per frame); the same with
+one kernel per frame (``grid=1``: one translation between frames); the same with the share
+calibrated per video and,
 on the stand-in, with its camera's own exposure share (the render's blur strength, its exposure
 in frame intervals: a camera setting, not the blur of any frame; the photo videos' own share,
 9 sub-frames over 9 steps of the pan, is 1.0, the chosen one), ``blind_per_frame``
@@ -66,8 +66,8 @@ SHARES = (None, 0.9, 1.0, 1.2)
 PHOTO_VIDEO_SHARE = 1.0
 #: The same photo videos with the camera also turning about its optical axis or moving towards
 #: the photograph, per sub-frame (label, roll_deg, zoom): the image moves differently in
-#: different parts of the frame, as in real footage (0.3 degrees per sub-frame turns a 160 px
-#: frame's corner by about 2.5 px per frame).
+#: different parts of the frame, as in real footage (0.3 degrees per sub-frame, 2.7 per frame,
+#: moves a 160 x 120 frame's corner by about 4.7 px per frame).
 TURNING_SETS = (("turning 0.1 deg", 0.1, 0.0), ("turning 0.3 deg", 0.3, 0.0),
                 ("moving forward 0.3 %", 0.0, 0.003))  # fmt: skip
 

@@ -237,15 +237,37 @@ def test_deblur_by_kernels_is_the_restoration_step_of_deblur_video_motion() -> N
         deblur_by_kernels(blurred, motion.kernels, motion.lengths_px, min_weight=0.0)
 
 
+def _turned_centre_motion(frames: int, step: float, angle: float, roll: float) -> np.ndarray:
+    """How the content at the frame's centre moves from frame to frame in a photo video whose
+    camera also turns by ``roll`` degrees per sub-frame: the pan's step turned by the roll of
+    the sub-frame it arrives at."""
+    middle = photo_video_motion(frames, 9, step, angle)[:, 4]
+    arrivals = 9 * np.arange(1, frames) + 4
+    moves = zip(arrivals, np.diff(middle, axis=0), strict=True)
+    return np.array([cv2.getRotationMatrix2D((0.0, 0.0), roll * n, 1.0)[:, :2] @ move
+                     for n, move in moves])  # fmt: skip
+
+
 def test_a_pair_that_phase_correlation_mislocks_is_measured_again_from_its_neighbour() -> None:
     """A camera that also turns about its optical axis: phase correlation locks onto a wrong
     peak between the first two frames (about 20 px off) and ECC climbs from there to a wrong
     optimum; started again from the next pair's displacement it finds the content's motion."""
     blurred, _ = photo_video(skimage.data.chelsea(), frames=8, step_px=1.0, angle_deg=74.0,
                              noise_sigma=0.0, seed=2, roll_deg=0.1)  # fmt: skip
-    true = np.diff(photo_video_motion(8, 9, 1.0, 74.0)[:, 4], axis=0)  # the centre's motion
+    true = _turned_centre_motion(8, 1.0, 74.0, 0.1)
     errors = np.linalg.norm(frame_shifts(blurred) - true, axis=1)
-    assert errors.max() < 1.5
+    assert errors.max() < 1.0
+
+
+def test_a_pair_without_structure_takes_its_neighbours_displacement() -> None:
+    """A flat frame in a panning video: ECC aligns neither pair it belongs to from any start,
+    so both take the displacement of a neighbouring pair that was aligned, not phase
+    correlation's guess on a flat frame."""
+    frames = _panned((-2.0, -1.0), frames=5)
+    frames[1] = 128
+    shifts = frame_shifts(frames)
+    np.testing.assert_allclose(shifts[2:], np.tile([-2.0, -1.0], (2, 1)), atol=0.15)
+    assert np.abs(shifts[:2]).max() < 5  # a neighbour's, not tens of px
 
 
 def test_frame_warps_see_a_turn_about_the_optical_axis() -> None:
@@ -257,8 +279,15 @@ def test_frame_warps_see_a_turn_about_the_optical_axis() -> None:
                        for turn in (0.0, 1.0, 2.0)])  # fmt: skip
     warps = frame_warps(frames, frame_shifts(frames))
     assert warps.shape == (2, 2, 3)
+    # a counter-clockwise turn on screen (y down) is a negative angle of the warp's rotation
     angles = np.degrees(np.arctan2(warps[:, 1, 0], warps[:, 0, 0]))
-    np.testing.assert_allclose(np.abs(angles), 1.0, atol=0.15)
+    np.testing.assert_allclose(angles, -1.0, atol=0.15)
+    # the content at the crop's top-left corner moves as the turn about the photo's centre does
+    corner = np.array([0.0, 0.0])
+    turn = cv2.getRotationMatrix2D((160, 160), 1.0, 1.0)
+    offset = np.array([80.0, 100.0])  # the crop's corner in the photo
+    arrived = turn[:, :2] @ (corner + offset) + turn[:, 2] - offset
+    np.testing.assert_allclose(warps[0, :, :2] @ corner + warps[0, :, 2], arrived, atol=0.3)
     with pytest.raises(ValueError, match="shifts must be"):
         frame_warps(frames, np.zeros((3, 2)))
 
@@ -278,7 +307,7 @@ def test_local_kernels_where_the_image_moves_differently_across_the_frame() -> N
     motion = local_motion_kernels(blurred)
     assert motion.grid == 3 and motion.lengths_px.shape == (8, 9)
     np.testing.assert_allclose(motion.points, grid_points(120, 160, 3))
-    # the turn moves the left and right columns up and down: their paths point apart
+    # the turn adds to the pan on one side of the frame and takes from it on the other
     assert motion.lengths_px.std(axis=1).min() > 0.5
     before = mean_frame_psnr([(blurred, sharp)])
     local = mean_frame_psnr([(deblur_video_motion(blurred), sharp)]) - before
@@ -298,6 +327,14 @@ def test_local_kernels_that_agree_restore_as_one_kernel_does() -> None:
     nine = np.repeat(motion.lengths_px[:, None], 9, axis=1)
     blended = deblur_by_local_kernels(blurred, [[kernel] * 9 for kernel in motion.kernels], nine, 3)
     assert np.abs(blended.astype(int) - single).max() <= 1
+    # only the top-left point's kernel deblurs: the frame changes where that point's weight
+    # reaches (up to the next points, at x = 80 and y = 60) and nowhere else
+    lengths = np.zeros((3, 9))
+    lengths[:, 0] = motion.lengths_px
+    top_left = deblur_by_local_kernels(blurred, [[kernel] * 9 for kernel in motion.kernels],
+                                       lengths, 3)  # fmt: skip
+    changed = np.any(top_left != blurred, axis=(0, 3))
+    assert changed[:10, :10].all() and not changed[60:, :].any() and not changed[:, 80:].any()
     with pytest.raises(ValueError, match="grid point"):
         deblur_by_local_kernels(blurred, [[kernel] * 4 for kernel in motion.kernels],
                                 np.repeat(motion.lengths_px[:, None], 4, axis=1), 3)  # fmt: skip

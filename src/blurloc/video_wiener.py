@@ -57,8 +57,8 @@ def deblur_video_motion(
     min_weight : float
         :math:`\lambda_{\min}`, > 0.
     grid : int
-        Points per side of the grid of kernels (>= 1; 1: one translation per frame pair, one
-        kernel per frame).
+        Points per side of the grid of kernels (>= 1; default LOCAL_GRID; 1: one translation per
+        frame pair, one kernel per frame).
 
     Returns
     -------
@@ -162,8 +162,10 @@ def deblur_by_local_kernels(
     Raises
     ------
     ValueError
-        If the counts of frames, kernels and lengths differ, or ``min_weight`` is not positive.
+        If the counts of frames, kernel lists and lengths differ, a frame's kernels or lengths
+        are not ``grid`` squared, ``grid`` < 1 or ``min_weight`` is not positive.
     """
+    frames = np.asarray(frames)
     lengths_px = np.asarray(lengths_px, float)
     if (
         not len(frames) == len(kernels) == len(lengths_px)

@@ -39,10 +39,15 @@ from .length_model import (
 from .spectrum import estimate_noise_sigma, log_power_spectrum, to_gray
 from .video_motion import (
     DEFAULT_EXPOSURE_SHARE,
+    LOCAL_GRID,
+    LocalVideoMotion,
     VideoMotion,
     calibrate_exposure_share,
     exposure_paths,
     frame_shifts,
+    frame_warps,
+    grid_points,
+    local_motion_kernels,
     video_motion_kernels,
 )
 
@@ -52,6 +57,7 @@ __all__ = [
     "BLUR_THRESHOLD",
     "DEFAULT_EXPOSURE_SHARE",
     "LENGTH_MODEL_PATH",
+    "LOCAL_GRID",
     "MIN_ANALYSIS_SIDE",
     "SHARP_BELOW_PX",
     "SINC_AGREEMENT",
@@ -59,6 +65,7 @@ __all__ = [
     "BlurEstimate",
     "BlurFeatures",
     "LengthModel",
+    "LocalVideoMotion",
     "VideoMotion",
     "analysis_length",
     "blur_features",
@@ -75,7 +82,10 @@ __all__ = [
     "exposure_paths",
     "fit_length_model",
     "frame_shifts",
+    "frame_warps",
+    "grid_points",
     "length_from_features",
+    "local_motion_kernels",
     "log_power_spectrum",
     "motion_kernel",
     "shake_path",

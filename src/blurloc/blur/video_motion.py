@@ -36,14 +36,20 @@ CALIBRATION_MIN_MOTION_PX = 1.0
 #: Refinement of the displacement between frames by ECC (:func:`frame_shifts`): at most this
 #: many iterations,
 ECC_ITERATIONS = 30
-#: stopping once an iteration moves the displacement by less than this (px),
-ECC_STOP_PX = 1e-3
-#: on frames smoothed by a Gaussian filter this many px wide (OpenCV's default).
+#: stopping once an iteration raises the correlation coefficient by less than this,
+ECC_STOP_CORRELATION = 1e-3
+#: on frames smoothed by a Gaussian filter this many px wide (OpenCV's default). An alignment
+#: whose correlation coefficient stays under this explains under a quarter of the frames'
+#: variance and counts as none (a frame without structure, or a lock onto a wrong peak).
 ECC_SMOOTHING_PX = 5
+ECC_MIN_CORRELATION = 0.5
 #: A displacement that departs from a neighbouring pair's by more than this (px) and by more than
-#: half the neighbour's length is measured again from that neighbour's (:func:`frame_shifts`):
-#: a camera's motion changes less than that from one frame to the next (the photo videos' wobble
-#: changes a 13.5 px displacement by up to about 4 px), a lock onto a wrong peak more.
+#: half the neighbour's length is measured again from that neighbour's (:func:`frame_shifts`),
+#: and an affine warp whose displacement at the frame's centre departs from the translation by
+#: more than this is not kept (:func:`frame_warps`). A lock onto a wrong peak departs by far more
+#: (tens of px); a camera's motion can change by a few px from one frame to the next (the photo
+#: videos' wobble changes a 13.5 px displacement by up to about 4 px), where measuring again
+#: costs time only: the correlation coefficient decides.
 NEIGHBOUR_RESTART_PX = 3.0
 #: Points per side of the grid at which :func:`local_motion_kernels` gives each frame a kernel
 #: of its own.
@@ -77,7 +83,10 @@ def frame_shifts(frames: np.ndarray) -> np.ndarray:
     optimum: a displacement that departs from a neighbouring pair's by more than
     NEIGHBOUR_RESTART_PX and more than half the neighbour's length is refined again from that
     neighbour's (a camera's motion changes little from one frame to the next), and the
-    alignment with the larger correlation coefficient is kept, over two passes. One global
+    alignment with the larger correlation coefficient is kept, over two passes; a pair that ECC
+    aligns from neither start (it does not converge, or its correlation coefficient stays under
+    ECC_MIN_CORRELATION: a frame without structure) takes the neighbour's displacement where
+    that one has one. One global
     translation per frame pair: right for a camera that turns, an approximation where parallax
     or a turn about the optical axis moves parts of the image differently
     (:func:`frame_warps`).
@@ -112,6 +121,7 @@ def frame_shifts(frames: np.ndarray) -> np.ndarray:
     for previous, current in itertools.pairwise(gray):
         start = cv2.phaseCorrelate(previous.copy(), current.copy(), window)[0]  # windows in place
         fits.append(_refine(previous, current, _translation(start), cv2.MOTION_TRANSLATION))
+    borrowed = set()  # pairs without an alignment of their own that took a neighbour's
     for _ in range(2):  # pairs that depart from a neighbour: refined again from its displacement
         changed = False
         for pair, neighbour in itertools.product(range(len(fits)), (-1, 1)):
@@ -123,27 +133,36 @@ def frame_shifts(frames: np.ndarray) -> np.ndarray:
             if departure > max(NEIGHBOUR_RESTART_PX, np.linalg.norm(other_shift) / 2):
                 fit = _refine(gray[pair], gray[pair + 1], _translation(other_shift),
                               cv2.MOTION_TRANSLATION)  # fmt: skip
-                if fit[0] > fits[pair][0]:
+                if max(fit[0], fits[pair][0]) == -np.inf and (
+                    fits[other][0] > -np.inf or other in borrowed
+                ):
+                    fits[pair], changed = (-np.inf, _translation(other_shift)), True
+                    borrowed.add(pair)
+                elif fit[0] > fits[pair][0]:
                     fits[pair], changed = fit, True
         if not changed:
             break
     return np.array([warp[:, 2] for _, warp in fits], np.float64)
 
 
-def _translation(shift) -> np.ndarray:
+def _translation(shift: np.ndarray | tuple[float, float]) -> np.ndarray:
     """The 2 x 3 float32 warp of a translation by ``shift`` (x, y)."""
     return np.float32([[1, 0, shift[0]], [0, 1, shift[1]]])
 
 
-def _refine(previous: np.ndarray, current: np.ndarray, warp: np.ndarray, motion: int):
+def _refine(
+    previous: np.ndarray, current: np.ndarray, warp: np.ndarray, motion: int
+) -> tuple[float, np.ndarray]:
     """ECC's (correlation coefficient, warp) from ``warp`` on two float32 gray frames; where it
-    does not converge (e.g. a frame without structure), (-inf, the warp it started from)."""
-    stop = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, ECC_ITERATIONS, ECC_STOP_PX)
+    does not converge (e.g. a frame without structure), (-inf, the warp it started from); where
+    the coefficient stays under ECC_MIN_CORRELATION, (-inf, ECC's warp): no alignment."""
+    stop = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, ECC_ITERATIONS, ECC_STOP_CORRELATION)
     try:
-        return cv2.findTransformECC(previous, current, warp.copy(), motion, stop, None,
-                                    ECC_SMOOTHING_PX)  # fmt: skip
+        correlation, warp = cv2.findTransformECC(previous, current, warp.copy(), motion, stop,
+                                                 None, ECC_SMOOTHING_PX)  # fmt: skip
     except cv2.error:
         return -np.inf, warp
+    return (correlation if correlation >= ECC_MIN_CORRELATION else -np.inf), warp
 
 
 def frame_warps(frames: np.ndarray, shifts: np.ndarray) -> np.ndarray:
@@ -154,7 +173,10 @@ def frame_warps(frames: np.ndarray, shifts: np.ndarray) -> np.ndarray:
     the two frames (:func:`cv2.findTransformECC`, ``MOTION_AFFINE``), started from the
     translation :math:`(I, \Delta_t)` of :func:`frame_shifts`. A turn about the optical axis, a
     move along it or a tilt moves the image differently in different parts of the frame, which
-    one translation cannot describe. Where ECC does not converge the translation is kept.
+    one translation cannot describe. Where ECC does not align the frames (see
+    :func:`frame_shifts`), or its warp moves the frame's centre more than NEIGHBOUR_RESTART_PX
+    away from where the translation does (an affine fit gone astray on a frame with little
+    structure), the translation is kept.
 
     Parameters
     ----------
@@ -183,13 +205,20 @@ def frame_warps(frames: np.ndarray, shifts: np.ndarray) -> np.ndarray:
         raise ValueError(f"shifts must be ({len(frames) - 1}, 2) for {len(frames)} frames, got "
                          f"{shifts.shape}")  # fmt: skip
     gray = [to_gray(frame).astype(np.float32) for frame in frames]
-    pairs = zip(itertools.pairwise(gray), shifts, strict=True)
-    return np.array([_refine(previous, current, _translation(shift), cv2.MOTION_AFFINE)[1]
-                     for (previous, current), shift in pairs], np.float64)  # fmt: skip
+    centre = np.array([gray[0].shape[1], gray[0].shape[0]], float) / 2
+    warps = np.empty((len(shifts), 2, 3))
+    for pair, ((previous, current), shift) in enumerate(
+        zip(itertools.pairwise(gray), shifts, strict=True)
+    ):
+        correlation, warp = _refine(previous, current, _translation(shift), cv2.MOTION_AFFINE)
+        moved = warp[:, :2] @ centre + warp[:, 2] - centre
+        astray = np.linalg.norm(moved - shift) > NEIGHBOUR_RESTART_PX
+        warps[pair] = _translation(shift) if astray or correlation == -np.inf else warp
+    return warps
 
 
 def grid_points(height: int, width: int, grid: int) -> np.ndarray:
-    """The centres of a ``grid`` x ``grid`` partition of a frame, row by row.
+    r"""The centres of a ``grid`` x ``grid`` partition of a frame, row by row.
 
     Parameters
     ----------
@@ -201,7 +230,9 @@ def grid_points(height: int, width: int, grid: int) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
-        (grid * grid, 2) points (x, y), px (pixel centres at half-integers).
+        (grid * grid, 2) points (x, y), px, pixel i covering [i, i + 1) (the warps of
+        :func:`frame_warps` put pixel centres at integers: read there, a point's displacement
+        is off by :math:`(A - I)\,0.5` px, a few hundredths of a pixel).
     """
     xs = (np.arange(grid) + 0.5) * width / grid
     ys = (np.arange(grid) + 0.5) * height / grid
@@ -344,13 +375,10 @@ def video_motion_kernels(
     VideoMotion
         The kernels (:func:`~blurloc.blur.trajectory_kernel`), their path lengths and the share.
     """
-    shifts = frame_shifts(frames)
-    if exposure_share is None:
-        exposure_share = calibrate_exposure_share(frames, shifts) or DEFAULT_EXPOSURE_SHARE
-    paths = exposure_paths(shifts, exposure_share)
-    return VideoMotion(kernels=[trajectory_kernel(path, origin=np.zeros(2)) for path in paths],
-                       lengths_px=np.array([path_length(path) for path in paths]),
-                       exposure_share=float(exposure_share))  # fmt: skip
+    motion = local_motion_kernels(frames, exposure_share, grid=1)
+    return VideoMotion(kernels=[point_kernels[0] for point_kernels in motion.kernels],
+                       lengths_px=motion.lengths_px[:, 0],
+                       exposure_share=motion.exposure_share)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -382,7 +410,10 @@ def local_motion_kernels(
         \Delta_{t,j} = A_t x_j + b_t - x_j
 
     and the kernel of frame t at :math:`x_j` that of its exposure path through those
-    displacements (:func:`exposure_paths`). With ``grid=1`` the one point is the frame's centre
+    displacements (:func:`exposure_paths`). The step into frame t is read at :math:`x_j` too,
+    where strictly it is that of the content which reaches :math:`x_j`: the two differ by about
+    :math:`(A_{t-1} - I)\,\Delta_{t-1}`, a few tenths of a pixel for a camera turning 3° per
+    frame while it pans 10 px. With ``grid=1`` the one point is the frame's centre
     and its displacements the translations of :func:`frame_shifts`: the kernels of
     :func:`video_motion_kernels`.
 

@@ -45,8 +45,9 @@ def photo_video(
     turns about its optical axis, or moves towards the photograph, by that much per sub-frame
     (sub-frame n of the video is turned by n ``roll_deg`` and magnified by 1 + n ``zoom`` about
     the frame's centre): the image then moves differently in different parts of the frame, as
-    it does in real footage, and :func:`photo_video_motion` gives the motion of the frame's
-    centre only.
+    it does in real footage, and :func:`photo_video_motion` gives the pan before the turn and
+    magnification: the content at the frame's centre in sub-frame n moves on to sub-frame m by
+    the pan's step :math:`p_m - p_n` turned by m ``roll_deg`` and magnified by 1 + m ``zoom``.
 
     Parameters
     ----------
@@ -70,7 +71,7 @@ def photo_video(
         Turn about the optical axis per sub-frame, degrees (counter-clockwise in the image).
     zoom : float
         Relative magnification per sub-frame (0.003: 0.3 % larger each sub-frame), > -1 /
-        (frames x subframes).
+        (frames x subframes - 1).
 
     Returns
     -------
@@ -80,6 +81,9 @@ def photo_video(
     photo = as_float_image(photo)
     if photo.ndim != 3 or frames < 1 or subframes < 1:
         raise ValueError("photo must be RGB; frames and subframes must be positive")
+    if not 1.0 + zoom * (frames * subframes - 1) > 0:
+        raise ValueError(f"zoom {zoom} shrinks the last sub-frames to nothing: it must be > "
+                         f"-1 / {frames * subframes - 1}")  # fmt: skip
     width, height = size
     scale = 2  # sub-frames are rendered at twice the output size, then area-averaged down
     linear = srgb_to_linear(cv2.resize(np.float32(photo), (3 * width * scale, 3 * height * scale),
@@ -241,7 +245,8 @@ def photo_video_set(
         Sensor noise of the blurred frames (:func:`photo_video`).
     roll_deg, zoom : float
         The camera's turn about its optical axis and magnification per sub-frame
-        (:func:`photo_video`; with either, the true motion of the centre only).
+        (:func:`photo_video`; with either, :func:`photo_video_motion` gives the pan before
+        them).
 
     Yields
     ------
