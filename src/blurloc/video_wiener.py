@@ -40,8 +40,8 @@ def deblur_video_motion(
         {|F\{c_{t,j}\}|^2 + \lambda_t |D(f)|^2} \, F\{b_t\} \right\}
 
     with :math:`c_{t,j}` the kernel of frame t's exposure path at grid point j
-    (:func:`~blurloc.blur.video_motion.local_motion_kernels`; one point, the frame's centre,
-    where the image moves as one), :math:`w_j` bilinear weights that are 1 at point j and fall
+    (:func:`~blurloc.blur.video_motion.local_motion_kernels`; with ``grid=1`` one point, the
+    frame's centre), :math:`w_j` bilinear weights that are 1 at point j and fall
     to 0 at its neighbours (:func:`deblur_by_local_kernels`), and :math:`\lambda_t` = the larger
     of blind deblurring's weight (:func:`~blurloc.deconv.blind_nsr`: GRADIENT_WEIGHT_PER_NOISE
     σ_t) and ``min_weight``.

@@ -38,10 +38,10 @@ CALIBRATION_MIN_MOTION_PX = 1.0
 ECC_ITERATIONS = 30
 #: stopping once an iteration raises the correlation coefficient by less than this,
 ECC_STOP_CORRELATION = 1e-3
-#: on frames smoothed by a Gaussian filter this many px wide (OpenCV's default). An alignment
-#: whose correlation coefficient stays under this explains under a quarter of the frames'
-#: variance and counts as none (a frame without structure, or a lock onto a wrong peak).
+#: on frames smoothed by a Gaussian filter this many px wide (OpenCV's default).
 ECC_SMOOTHING_PX = 5
+#: An alignment whose correlation coefficient stays under this explains under a quarter of the
+#: frames' variance and counts as none (a frame without structure, or a lock onto a wrong peak).
 ECC_MIN_CORRELATION = 0.5
 #: A displacement that departs from a neighbouring pair's by more than this (px) and by more than
 #: half the neighbour's length is measured again from that neighbour's (:func:`frame_shifts`),
@@ -86,10 +86,9 @@ def frame_shifts(frames: np.ndarray) -> np.ndarray:
     alignment with the larger correlation coefficient is kept, over two passes; a pair that ECC
     aligns from neither start (it does not converge, or its correlation coefficient stays under
     ECC_MIN_CORRELATION: a frame without structure) takes the neighbour's displacement where
-    that one has one. One global
-    translation per frame pair: right for a camera that turns, an approximation where parallax
-    or a turn about the optical axis moves parts of the image differently
-    (:func:`frame_warps`).
+    that one has one. One global translation per frame pair: right for a camera that turns, an
+    approximation where parallax or a turn about the optical axis moves parts of the image
+    differently (:func:`frame_warps`).
 
     Parameters
     ----------
