@@ -116,9 +116,6 @@ def deblur_by_kernels(
     ValueError
         If the counts of frames, kernels and lengths differ, or ``min_weight`` is not positive.
     """
-    if not len(frames) == len(kernels) == len(lengths_px):
-        raise ValueError(f"one kernel and one length per frame: {len(frames)} frames, "
-                         f"{len(kernels)} kernels, {len(lengths_px)} lengths")  # fmt: skip
     return deblur_by_local_kernels(frames, [[kernel] for kernel in kernels],
                                    np.reshape(lengths_px, (-1, 1)), 1, min_weight)  # fmt: skip
 
