@@ -22,13 +22,17 @@ blind rule with a floor) with the kernel of one of three paths:
 Without noise each at the weight floors WEIGHTS (the shipped one, MIN_WEIGHT, among them; the
 others are not chosen on anything, so the best of them on these videos is an oracle); with
 noise at the shipped floor only (the blind rule's weight, about 20 sigma, lies above them all).
+Each with mirror boundaries and with the image beyond the frame unknown
+(:func:`~blurloc.deconv.wiener_deconvolve`'s BOUNDARIES; the shipped one: BOUNDARY), and, for
+the measured motion without noise, with ITERATIONS conjugate-gradient steps of the unknown
+boundary's solve.
 Scored on the whole frame and on the frame without a ``--border`` px margin (where the pan
 brings in content the frame does not hold). Gains: PSNR of the restored video minus the blurred
 one's (eq. 6, mean over frames), dB; paired rows: each path and floor minus the method at the
 shipped floor, in the same region, per video, 95 % t-interval. The shift table gives the
 distance between the measured and the true motion from each frame to the next. Writes
-``<out-dir>/motion_wiener_bounds.md``/``.csv`` (``-shifts.csv``; ``-videos.csv``: one row per
-video). About 10 s on 2 cores.
+``<out-dir>/motion_wiener_bounds.md``/``.csv`` (``-iterations.csv``; ``-shifts.csv``;
+``-videos.csv``: one row per video). About 2 min on 2 cores.
 """
 
 from __future__ import annotations
@@ -41,11 +45,13 @@ from video_motion_deblur import lead
 
 from blurloc.blur import exposure_paths, frame_shifts, trajectory_kernel
 from blurloc.blur.video_motion import path_length
+from blurloc.deconv import BOUNDARIES, BOUNDARY_ITERATIONS, blind_nsr, wiener_deconvolve
 from blurloc.experiments.photo_video import photo_video_motion, photo_video_set
+from blurloc.images import as_float_image, like_input
 from blurloc.intervals import paired_interval
 from blurloc.metrics import mean_frame_psnr
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
-from blurloc.video_wiener import MIN_WEIGHT, deblur_by_kernels
+from blurloc.video_wiener import BOUNDARY, MIN_WEIGHT, deblur_by_kernels
 
 WEIGHTS = (0.02, 0.05, MIN_WEIGHT, 0.2)
 FRAMES = 8
@@ -54,6 +60,8 @@ SUBFRAMES = 9
 #: lies above every floor, so only the shipped one is run).
 SETS = {"photo videos, no noise": (0.0, WEIGHTS), "photo videos, sigma 0.01": (0.01, (MIN_WEIGHT,))}
 METHOD = "measured motion"
+#: Conjugate-gradient steps of the unknown-boundary solve tried (the iterations table).
+ITERATIONS = (0, 3, 5, BOUNDARY_ITERATIONS, 20, 40)
 
 
 def test_videos(noise_sigma: float):
@@ -86,15 +94,29 @@ def video_gain(restored: np.ndarray, blurred: np.ndarray, sharp: np.ndarray, bor
     )
 
 
+def iteration_gains(blurred: np.ndarray, paths: list[np.ndarray], iterations: int) -> np.ndarray:
+    """``blurred`` restored as :func:`~blurloc.video_wiener.deblur_by_kernels` restores it at
+    the shipped floor, with unknown boundaries solved by ``iterations`` conjugate-gradient
+    steps."""
+    restored = np.array(blurred, copy=True)
+    for index, (frame, path) in enumerate(zip(blurred, paths, strict=True)):
+        weight = max(blind_nsr(frame, "gradient"), MIN_WEIGHT)
+        kernel = trajectory_kernel(path, origin=np.zeros(2))
+        sharp = wiener_deconvolve(as_float_image(frame), kernel, weight, "gradient", "unknown",
+                                  iterations)  # fmt: skip
+        restored[index] = like_input(sharp, frame)
+    return restored
+
+
 def main() -> None:
-    """Restore every test photo video by every path and floor, write the tables."""
+    """Restore every test photo video by every path, floor and boundary, write the tables."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--border", type=int, default=16, help="margin left out, px")
     add_out_dir_argument(parser)
     args = parser.parse_args()
     start = time.perf_counter()
     regions = {"whole frame": 0, f"without a {args.border} px border": args.border}
-    video_rows, shift_rows, gains = [], [], {}
+    video_rows, shift_rows, gains, iteration_rows = [], [], {}, {}
     for set_name, (noise, weights) in SETS.items():
         errors = []
         for label, blurred, sharp, positions in test_videos(noise):
@@ -104,44 +126,73 @@ def main() -> None:
                 kernels = [trajectory_kernel(path, origin=np.zeros(2)) for path in frame_paths]
                 lengths = np.array([path_length(path) for path in frame_paths])
                 for weight in weights:
-                    restored = deblur_by_kernels(blurred, kernels, lengths, weight)
-                    for region, border in regions.items():
-                        value = video_gain(restored, blurred, sharp, border)
-                        gains.setdefault((set_name, path_name, weight, region), []).append(value)
-                        video_rows.append({"set": set_name, "path": path_name,
-                                           "min_weight": weight, "region": region,
-                                           "video": label, "gain_db": round(value, 3)})  # fmt: skip
+                    for boundary in BOUNDARIES:
+                        restored = deblur_by_kernels(blurred, kernels, lengths, weight, boundary)
+                        for region, border in regions.items():
+                            value = video_gain(restored, blurred, sharp, border)
+                            key = (set_name, path_name, weight, boundary, region)
+                            gains.setdefault(key, []).append(value)
+                            video_rows.append({"set": set_name, "path": path_name,
+                                               "min_weight": weight, "boundary": boundary,
+                                               "region": region, "video": label,
+                                               "gain_db": round(value, 3)})  # fmt: skip
+            if noise == 0.0:
+                for iterations in ITERATIONS:
+                    value = video_gain(iteration_gains(blurred, paths[METHOD], iterations),
+                                       blurred, sharp, 0)  # fmt: skip
+                    iteration_rows.setdefault(iterations, []).append(value)
         errors = np.concatenate(errors)
         shift_rows.append({"set": set_name, "frame_pairs": len(errors),
                            "mean_error_px": round(float(errors.mean()), 3),
                            "median_error_px": round(float(np.median(errors)), 3),
                            "max_error_px": round(float(errors.max()), 3)})  # fmt: skip
     summary = []
-    for (set_name, path_name, weight, region), values in gains.items():
-        row = {"set": set_name, "path": path_name, "min_weight": weight, "region": region,
-               "videos": len(values), "mean_gain_db": round(float(np.mean(values)), 3),
+    for (set_name, path_name, weight, boundary, region), values in gains.items():
+        row = {"set": set_name, "path": path_name, "min_weight": weight, "boundary": boundary,
+               "region": region, "videos": len(values),
+               "mean_gain_db": round(float(np.mean(values)), 3),
                "worst_video_db": round(float(np.min(values)), 3),
                "videos_above_0": int(np.sum(np.array(values) > 0)),
                "minus_method_db": "", "ci_low": "", "ci_high": "", "verdict": ""}  # fmt: skip
-        reference = gains[(set_name, METHOD, MIN_WEIGHT, region)]
-        if (path_name, weight) != (METHOD, MIN_WEIGHT):
+        reference = gains[(set_name, METHOD, MIN_WEIGHT, BOUNDARY, region)]
+        if (path_name, weight, boundary) != (METHOD, MIN_WEIGHT, BOUNDARY):
             interval = paired_interval(np.array(values) - reference, method="t")
             row.update({"minus_method_db": round(interval.mean, 3),
                         "ci_low": round(interval.low, 3), "ci_high": round(interval.high, 3),
                         "verdict": lead(interval, "the path")})  # fmt: skip
         summary.append(row)
+    most = iteration_rows[max(ITERATIONS)]
+    iterations_table = []
+    for iterations, values in iteration_rows.items():
+        interval = paired_interval(np.array(values) - most, method="t")
+        iterations_table.append({"iterations": iterations, "videos": len(values),
+                                 "mean_gain_db": round(float(np.mean(values)), 3),
+                                 "worst_video_db": round(float(np.min(values)), 3),
+                                 "minus_most_db": round(interval.mean, 3),
+                                 "ci_low": round(interval.low, 3),
+                                 "ci_high": round(interval.high, 3)})  # fmt: skip
     notes = (f"The 15 photo videos of photo_video_gains ({FRAMES} frames, {SUBFRAMES} sub-frames "
              "each), every frame deconvolved by deblur_by_kernels (the restoration step of "
              "deblur_video_motion) with the kernel of each path, at each floor of the "
-             f"regulariser's weight (shipped: {MIN_WEIGHT}). Gains: PSNR of the restored video "
-             "minus the blurred one's (eq. 6, mean over frames), dB, over the 15 videos; "
-             f"minus_method: the path and floor minus '{METHOD}' at {MIN_WEIGHT}, in the same "
-             "region, per video, 95 % t-interval. Floors other than the shipped one are not "
-             "chosen on anything: the best of them on these videos is an oracle. "
+             f"regulariser's weight (shipped: {MIN_WEIGHT}), with mirror boundaries and with the "
+             f"image beyond the frame unknown (shipped: {BOUNDARY}). Gains: PSNR of the restored "
+             "video minus the blurred one's (eq. 6, mean over frames), dB, over the 15 videos; "
+             f"minus_method: the path, floor and boundary minus '{METHOD}' at {MIN_WEIGHT} with "
+             f"{BOUNDARY} boundaries, in the same region, per video, 95 % t-interval. Floors "
+             "other than the shipped one are not chosen on anything: the best of them on these "
+             "videos is an oracle. Iterations: the conjugate-gradient steps of the unknown "
+             f"boundary's solve (shipped: {BOUNDARY_ITERATIONS}; 0: the mirror result it starts "
+             f"from), '{METHOD}' without noise at the shipped floor, whole frame; minus_most: "
+             f"minus {max(ITERATIONS)} steps, per video, 95 % t-interval. "
              f"{time.perf_counter() - start:.0f} s on 2 CPU cores.")  # fmt: skip
     saved = save_benchmark_tables(
         "motion_wiener_bounds",
-        {"results": summary, "shifts": shift_rows, "videos": video_rows},
+        {
+            "results": summary,
+            "iterations": iterations_table,
+            "shifts": shift_rows,
+            "videos": video_rows,
+        },
         args.out_dir,
         notes=notes,
     )

@@ -269,6 +269,14 @@ def test_band_squared_error_refuses_bad_input() -> None:
         ),
         (lambda: wiener_deconvolve(np.ones((1, 5)), np.ones((1, 1)), nsr=0.1), "at least 2x2"),
         (lambda: wiener_deconvolve(np.ones((5, 5), bool), np.ones((1, 1)), nsr=0.1), "dtype"),
+        (
+            lambda: wiener_deconvolve(np.ones((8, 8)), np.ones((1, 1)), 0.1, boundary="wrap"),
+            "boundary must be one of .*'wrap'",
+        ),
+        (
+            lambda: wiener_deconvolve(np.ones((8, 8)), np.ones((1, 1)), 0.1, iterations=-1),
+            "iterations must be >= 0, got -1",
+        ),
         (lambda: psnr(np.ones((4, 4)), np.ones((4, 5)), 1.0), "differ in shape"),
         (lambda: psnr(np.ones((4, 4)), np.ones((4, 4)), 0), "data_range"),
     ],
@@ -283,6 +291,8 @@ def test_band_squared_error_refuses_bad_input() -> None:
         "inf",
         "one-row",
         "bool",
+        "unknown-boundary",
+        "negative-iterations",
         "shape-mismatch",
         "data-range",
     ],
@@ -401,6 +411,59 @@ def test_mirror_padding_beats_the_periodic_dft() -> None:
     blurred = blur_image(image, kernel, 0.002, rng=np.random.default_rng(2))
     scores = {r["method"]: r["psnr_db"] for r in boundary_comparison(image, blurred, kernel)}
     assert scores["Wiener, mirror padding"] > scores["Wiener, periodic DFT"] + 1
+
+
+def frame_cut_from_a_larger_blurred_photograph(
+    kernel: np.ndarray, margin: int = 24
+) -> tuple[np.ndarray, np.ndarray]:
+    """(blurred frame, sharp frame): a photograph blurred as a whole, then cut, so that the
+    frame's border holds light from beyond the frame, as a camera's frame does."""
+    photo = (
+        skimage.data.astronaut()[100 : 100 + 120 + 2 * margin, 150 : 150 + 160 + 2 * margin] / 255.0
+    )
+    blurred = np.stack([blur_image(photo[..., c], kernel, boundary="reflect") for c in range(3)],
+                       axis=-1)  # fmt: skip
+    frame = np.s_[margin:-margin, margin:-margin]
+    return blurred[frame], photo[frame]
+
+
+def test_unknown_boundary_restores_the_border_that_a_mirror_cannot() -> None:
+    kernel = trajectory_kernel(np.array([[-6.0, -2.0], [0.0, 0.0], [5.0, 3.0]]), origin=np.zeros(2))
+    blurred, sharp = frame_cut_from_a_larger_blurred_photograph(kernel)
+    border = np.zeros(sharp.shape[:2], bool)
+    border[:12] = border[-12:] = True
+    border[:, :12] = border[:, -12:] = True
+    scores = {}
+    for boundary in ("mirror", "unknown"):
+        restored = wiener_deconvolve(blurred, kernel, 0.002, "gradient", boundary)
+        scores[boundary] = (psnr(sharp, np.clip(restored, 0, 1), 1.0),
+                            psnr(sharp[border], np.clip(restored[border], 0, 1), 1.0))  # fmt: skip
+    assert scores["unknown"][1] > scores["mirror"][1] + 3.0  # the border band
+    assert scores["unknown"][0] > scores["mirror"][0] + 1.0  # the whole frame
+    assert scores["unknown"][0] > psnr(sharp, blurred, 1.0) + 5.0
+
+
+def test_unknown_boundary_solve_starts_at_the_mirror_result_and_improves_with_steps() -> None:
+    kernel = trajectory_kernel(np.array([[-4.0, 1.0], [4.0, -1.0]]), origin=np.zeros(2))
+    blurred, sharp = frame_cut_from_a_larger_blurred_photograph(kernel)
+    quality = [
+        psnr(sharp, wiener_deconvolve(blurred, kernel, 0.002, "gradient", "unknown", steps), 1.0)
+        for steps in (0, 2, 10, 40)
+    ]
+    mirror = wiener_deconvolve(blurred, kernel, 0.002, "gradient", "mirror")
+    assert quality[0] == pytest.approx(psnr(sharp, mirror, 1.0), abs=1e-3)  # 0 steps: the start
+    assert quality[0] < quality[1] < quality[2] <= quality[3] + 0.01
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.float32, np.float64])
+@pytest.mark.parametrize("channels", [None, 3])
+def test_unknown_boundary_keeps_shape_and_dtype(dtype, channels) -> None:
+    shape = (40, 56) if channels is None else (40, 56, channels)
+    image = np.random.default_rng(1).random(shape)
+    image = (image * 255).astype(np.uint8) if dtype == np.uint8 else image.astype(dtype)
+    restored = wiener_deconvolve(image, motion_kernel(7, 20), 0.05, "constant", "unknown")
+    assert restored.shape == image.shape
+    assert restored.dtype == (np.uint8 if dtype == np.uint8 else dtype)
 
 
 def test_oracle_gain_split_by_extent() -> None:

@@ -2,7 +2,10 @@
 
 Boundaries: the DFT treats an image as periodic, so a real photograph's opposite edges, which
 do not match, ring after deconvolution. Both filters therefore extend the image by mirror
-reflection (by at least the kernel size) before the transform and crop the result back.
+reflection (by at least the kernel size) before the transform and crop the result back. A
+blurred frame's border also holds light from outside the frame, which a mirror does not hold;
+the Wiener filter can instead treat the image beyond the frame as unknown
+(``boundary="unknown"``) and solve for it by conjugate gradients.
 """
 
 from __future__ import annotations
@@ -37,6 +40,13 @@ NSR_EXPONENT = 0.72
 #: proportional to 1/|D(f)|^2 (about 1/|f|^2, a natural image's, at low frequencies), which
 #: leaves the mean (f = 0) untouched where a constant NSR scales it by 1 / (1 + NSR).
 REGULARISERS = ("constant", "gradient")
+#: How :func:`wiener_deconvolve` treats the image beyond the frame: ``"mirror"``, a reflection of
+#: the frame (one pass of eq. 4); ``"unknown"``, unknown pixels solved for together with the
+#: frame, so that the light the blur carried into the frame from outside is explained by them.
+BOUNDARIES = ("mirror", "unknown")
+#: Conjugate-gradient iterations of the unknown-boundary solve, started from the mirror result
+#: (chosen by ``benchmarks/motion_wiener_bounds.py``, its iterations table).
+BOUNDARY_ITERATIONS = 10
 #: Blind deblurring (:func:`deblur_blind`) restores with BLIND_REGULARISER; for the gradient
 #: regulariser its weight is lambda = GRADIENT_WEIGHT_PER_NOISE * sigma (sigma: the frame's noise,
 #: [0, 1] scale). Chosen with the gate below by ``benchmarks/choose_blind_gate.py`` (among eq. 4's
@@ -227,6 +237,67 @@ def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
     return result if image.dtype == np.uint8 else result.astype(image.dtype)
 
 
+def _unknown_boundary_filter(
+    image: np.ndarray, kernel: np.ndarray, nsr: float, regulariser: str, iterations: int
+) -> np.ndarray:
+    """Eq. 4's least-squares problem with the image beyond the frame unknown (see
+    :func:`wiener_deconvolve`), solved by preconditioned conjugate gradients on all channels at
+    once, in single precision; ``image`` checked already. Returns the input's dtype (uint8
+    rounded and clipped, float unclipped)."""
+    kernel = check_kernel(kernel, image.shape)
+    pad = max(kernel.shape) + 8
+    height, width = image.shape[:2]
+    shape = (_even_dft_size(height + 2 * pad), _even_dft_size(width + 2 * pad))
+    planes = np.float32(image).reshape(height, width, -1)
+    otf = kernel_to_otf(kernel, shape)[..., None]
+    penalty = np.full((shape[0], shape[1] // 2 + 1, 1), nsr, np.float32)
+    if regulariser == "gradient":
+        penalty = penalty * difference_power(shape)[..., None]
+    circulant = otf.real**2 + otf.imag**2 + penalty  # the normal matrix without the frame's edge
+
+    def forward(plane: np.ndarray) -> np.ndarray:
+        return scipy.fft.rfft2(plane, axes=(0, 1))
+
+    def inverse(spectrum: np.ndarray) -> np.ndarray:
+        return scipy.fft.irfft2(spectrum, s=shape, axes=(0, 1))
+
+    frame = np.s_[pad : pad + height, pad : pad + width]
+    inside = np.zeros((*shape, 1), np.float32)
+    inside[frame] = 1.0
+
+    def normal(estimate: np.ndarray) -> np.ndarray:  # (C^H M^T M C + penalty) x
+        spectrum = forward(estimate)
+        seen = inside * inverse(otf * spectrum)
+        return inverse(otf.conj() * forward(seen) + penalty * spectrum)
+
+    def precondition(residual: np.ndarray) -> np.ndarray:
+        return inverse(forward(residual) / circulant)
+
+    mirrored = cv2.copyMakeBorder(planes, pad, shape[0] - height - pad, pad,
+                                  shape[1] - width - pad, cv2.BORDER_REFLECT_101)  # fmt: skip
+    estimate = inverse(otf.conj() * forward(mirrored.reshape(*shape, -1)) / circulant)
+    observed = np.zeros_like(estimate)
+    observed[frame] = planes
+    residual = inverse(otf.conj() * forward(observed)) - normal(estimate)
+    step = precondition(residual)
+    direction = step
+    alignment = np.vdot(residual, step)
+    for _ in range(iterations):
+        if alignment == 0:  # solved exactly
+            break
+        image_of_direction = normal(direction)
+        size = alignment / np.vdot(direction, image_of_direction)
+        estimate = estimate + size * direction
+        residual = residual - size * image_of_direction
+        step = precondition(residual)
+        alignment, previous = np.vdot(residual, step), alignment
+        direction = step + (alignment / previous) * direction
+    restored = estimate[frame].reshape(image.shape)
+    if image.dtype == np.uint8:
+        return np.uint8(np.clip(np.rint(restored), 0, 255))
+    return restored.astype(image.dtype)
+
+
 def _check_regulariser(regulariser: str) -> None:
     """Refuse a regulariser that is not one of REGULARISERS, naming it."""
     if regulariser not in REGULARISERS:
@@ -276,8 +347,10 @@ def wiener_deconvolve(
     kernel: np.ndarray,
     nsr: float | None = None,
     regulariser: str = "constant",
+    boundary: str = "mirror",
+    iterations: int = BOUNDARY_ITERATIONS,
 ) -> np.ndarray:
-    r"""Wiener deconvolution (eq. 4) of each channel, with mirror-padded boundaries.
+    r"""Wiener deconvolution (eq. 4) of each channel, with mirror-padded or unknown boundaries.
 
     .. math::
 
@@ -294,8 +367,23 @@ def wiener_deconvolve(
     image whose power spectrum is proportional to :math:`1/|D(f)|^2` (about :math:`1/|f|^2` at
     low frequencies; a Tikhonov filter with a first-difference penalty), zero at the mean, which
     is then kept.
-    The image is extended by mirror reflection (by the kernel size plus 8 px) before the DFT and
-    cropped back, so that its non-matching opposite edges do not ring.
+    With ``boundary="mirror"`` the image is extended by mirror reflection (by the kernel size
+    plus 8 px) before the DFT and cropped back, so that its non-matching opposite edges do not
+    ring. A blurred frame's border, though, holds light that the blur carried in from beyond the
+    frame, which no reflection holds. With ``boundary="unknown"`` the image x is solved for on
+    the extended grid, the pixels beyond the frame unknown like the rest, and only the frame's
+    own pixels are compared with the blur of x (M: the frame's mask, C: convolution by c,
+    :math:`\Gamma`: the NSR's regulariser, :math:`\mathrm{NSR}\,|D|^2` or the constant NSR):
+
+    .. math::
+
+        \tilde{x} = \arg\min_x \|M(c * x) - b\|^2 + x^\top \Gamma x, \qquad
+        (C^\top M^\top M C + \Gamma)\, \tilde{x} = C^\top M^\top b
+
+    Without M this is eq. 4 itself; with it, the normal equations are solved by ``iterations``
+    steps of conjugate gradients preconditioned by eq. 4's own filter
+    :math:`(C^\top C + \Gamma)^{-1}` and started from the mirror result (about 6 transforms per
+    step instead of 2 in all).
 
     Parameters
     ----------
@@ -309,6 +397,11 @@ def wiener_deconvolve(
         :math:`\lambda` that blind deblurring uses).
     regulariser : str
         ``"constant"`` or ``"gradient"`` (REGULARISERS).
+    boundary : str
+        ``"mirror"`` or ``"unknown"`` (BOUNDARIES).
+    iterations : int
+        Conjugate-gradient steps of the unknown-boundary solve (>= 0; 0 returns the mirror
+        result).
 
     Returns
     -------
@@ -318,8 +411,18 @@ def wiener_deconvolve(
     Raises
     ------
     ValueError
-        If ``nsr`` is not > 0 (or not given with the gradient regulariser), ``regulariser`` is
-        unknown, or the image or kernel is invalid.
+        If ``nsr`` is not > 0 (or not given with the gradient regulariser), ``regulariser`` or
+        ``boundary`` is unknown, ``iterations`` is negative, or the image or kernel is invalid.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from blurloc.blur import trajectory_kernel
+    >>> kernel = trajectory_kernel(np.array([[-3.0, 0.0], [3.0, 0.0]]), origin=np.zeros(2))
+    >>> frame = np.random.default_rng(0).random((60, 80, 3))
+    >>> wiener_deconvolve(frame, kernel, nsr=0.02, regulariser="gradient",
+    ...                   boundary="unknown").shape
+    (60, 80, 3)
 
     References
     ----------
@@ -327,10 +430,17 @@ def wiener_deconvolve(
     1949. Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Sections 5.7-5.9
     (inverse, minimum mean square error and constrained least squares filtering). Field,
     "Relations between the statistics of natural images and the response properties of cortical
-    cells", JOSA A 4(12), 1987 (power spectra of natural images fall as 1/f^2). The paper's
-    eq. 4.
+    cells", JOSA A 4(12), 1987 (power spectra of natural images fall as 1/f^2). Reeves, "Fast
+    image restoration without boundary artifacts", IEEE Trans. Image Process. 14(10), 2005, and
+    Almeida and Figueiredo, "Deconvolving images with unknown boundaries using the alternating
+    direction method of multipliers", IEEE Trans. Image Process. 22(8), 2013 (unknown
+    boundaries). The paper's eq. 4.
     """
     _check_regulariser(regulariser)
+    if boundary not in BOUNDARIES:
+        raise ValueError(f"boundary must be one of {BOUNDARIES}, got {boundary!r}")
+    if iterations < 0:
+        raise ValueError(f"iterations must be >= 0, got {iterations}")
     image = check_image(image)
     if nsr is None and regulariser == "gradient":
         raise ValueError(
@@ -341,6 +451,8 @@ def wiener_deconvolve(
         nsr = estimate_nsr(image)
     if not np.isfinite(nsr) or nsr <= 0:
         raise ValueError(f"nsr must be > 0, got {nsr}")
+    if boundary == "unknown":
+        return _unknown_boundary_filter(image, kernel, nsr, regulariser, iterations)
     return _filter(image, kernel, lambda otf: _wiener_response(otf, nsr, regulariser))
 
 

@@ -3,11 +3,11 @@
 The blind estimate of one frame (:func:`blurloc.deconv.deblur_blind`) reads a straight line off
 the frame's spectrum; a video also shows where the image went between frames, and so the path
 it took during each exposure (:mod:`blurloc.blur.video_motion`). Each frame is deconvolved with
-that path's kernel by Wiener's filter with the gradient regulariser
-(:func:`blurloc.deconv.wiener_deconvolve`); where the image moves differently in different
-parts of the frame (a turn about the optical axis, a move along it), with the kernels of a grid
-of points, blended. A frame whose path is under MIN_PATH_PX, or whose kernel is larger than the
-frame, is passed through.
+that path's kernel by Wiener's filter with the gradient regulariser, the image beyond the frame
+solved for as unknown (:func:`blurloc.deconv.wiener_deconvolve`); where the image moves
+differently in different parts of the frame (a turn about the optical axis, a move along it),
+with the kernels of a grid of points, blended. A frame whose path is under MIN_PATH_PX, or whose
+kernel is larger than the frame, is passed through.
 """
 
 from __future__ import annotations
@@ -15,13 +15,17 @@ from __future__ import annotations
 import numpy as np
 
 from .blur.video_motion import DEFAULT_EXPOSURE_SHARE, LOCAL_GRID, grid_points, local_motion_kernels
-from .deconv import blind_nsr, wiener_deconvolve
+from .deconv import BOUNDARIES, blind_nsr, wiener_deconvolve
 from .images import as_float_image, like_input
 
 #: Smallest weight of the gradient regulariser, for frames without noise (chosen on GoPro-style
 #: videos of the photographs that the test videos do not show:
 #: ``benchmarks/video_motion_deblur.py``).
-MIN_WEIGHT = 0.1
+MIN_WEIGHT = 0.02
+#: How the frame's boundary is treated (:func:`blurloc.deconv.wiener_deconvolve`): the image
+#: beyond the frame unknown, so that the light a pan carries into the frame is explained
+#: (compared with mirror boundaries by ``benchmarks/video_motion_deblur.py``).
+BOUNDARY = "unknown"
 #: Frames whose image moves less than this during the exposure (px) are passed through.
 MIN_PATH_PX = 1.0
 
@@ -31,6 +35,7 @@ def deblur_video_motion(
     exposure_share: float | None = DEFAULT_EXPOSURE_SHARE,
     min_weight: float = MIN_WEIGHT,
     grid: int = LOCAL_GRID,
+    boundary: str = BOUNDARY,
 ) -> np.ndarray:
     r"""Deblur a video frame by frame with kernels from its own motion.
 
@@ -44,7 +49,9 @@ def deblur_video_motion(
     frame's centre), :math:`w_j` bilinear weights that are 1 at point j and fall
     to 0 at its neighbours (:func:`deblur_by_local_kernels`), and :math:`\lambda_t` = the larger
     of blind deblurring's weight (:func:`~blurloc.deconv.blind_nsr`: GRADIENT_WEIGHT_PER_NOISE
-    σ_t) and ``min_weight``.
+    σ_t) and ``min_weight``. The formula is the mirror boundary's; with ``boundary="unknown"``
+    (the default) each term is the least-squares image of
+    :func:`~blurloc.deconv.wiener_deconvolve` whose part beyond the frame is unknown.
 
     Parameters
     ----------
@@ -59,6 +66,8 @@ def deblur_video_motion(
     grid : int
         Points per side of the grid of kernels (>= 1; default LOCAL_GRID; 1: one translation per
         frame pair, one kernel per frame).
+    boundary : str
+        ``"unknown"`` or ``"mirror"`` (:func:`~blurloc.deconv.wiener_deconvolve`).
 
     Returns
     -------
@@ -69,17 +78,17 @@ def deblur_video_motion(
     ------
     ValueError
         If ``frames`` is not a (T, H, W, 3) uint8 video of at least two frames,
-        ``exposure_share`` or ``min_weight`` is not positive, or ``grid`` < 1.
+        ``exposure_share`` or ``min_weight`` is not positive, ``grid`` < 1 or ``boundary`` is
+        unknown.
     """
     frames = np.asarray(frames)
     if frames.ndim != 4 or frames.shape[-1] != 3 or frames.dtype != np.uint8 or len(frames) < 2:
         raise ValueError(f"frames must be a (T, H, W, 3) uint8 video with T >= 2, got "
                          f"{frames.shape} {frames.dtype}")  # fmt: skip
-    if not min_weight > 0:
-        raise ValueError(f"min_weight must be > 0, got {min_weight}")
+    _check_settings(min_weight, boundary)
     motion = local_motion_kernels(frames, exposure_share, grid)
     return deblur_by_local_kernels(frames, motion.kernels, motion.lengths_px, motion.grid,
-                                   min_weight)  # fmt: skip
+                                   min_weight, boundary)  # fmt: skip
 
 
 def deblur_by_kernels(
@@ -87,6 +96,7 @@ def deblur_by_kernels(
     kernels: list[np.ndarray],
     lengths_px: np.ndarray,
     min_weight: float = MIN_WEIGHT,
+    boundary: str = BOUNDARY,
 ) -> np.ndarray:
     r"""Deconvolve each frame by its own kernel, as :func:`deblur_video_motion` does.
 
@@ -105,6 +115,8 @@ def deblur_by_kernels(
         (T,) lengths of the paths the kernels were made from, px.
     min_weight : float
         :math:`\lambda_{\min}`, > 0.
+    boundary : str
+        ``"unknown"`` or ``"mirror"`` (:func:`~blurloc.deconv.wiener_deconvolve`).
 
     Returns
     -------
@@ -114,10 +126,12 @@ def deblur_by_kernels(
     Raises
     ------
     ValueError
-        If the counts of frames, kernels and lengths differ, or ``min_weight`` is not positive.
+        If the counts of frames, kernels and lengths differ, ``min_weight`` is not positive or
+        ``boundary`` is unknown.
     """
     return deblur_by_local_kernels(frames, [[kernel] for kernel in kernels],
-                                   np.reshape(lengths_px, (-1, 1)), 1, min_weight)  # fmt: skip
+                                   np.reshape(lengths_px, (-1, 1)), 1, min_weight,
+                                   boundary)  # fmt: skip
 
 
 def deblur_by_local_kernels(
@@ -126,6 +140,7 @@ def deblur_by_local_kernels(
     lengths_px: np.ndarray,
     grid: int,
     min_weight: float = MIN_WEIGHT,
+    boundary: str = BOUNDARY,
 ) -> np.ndarray:
     r"""Deconvolve each frame by the kernels of a grid of points, blended.
 
@@ -150,6 +165,8 @@ def deblur_by_local_kernels(
         Points per side, >= 1.
     min_weight : float
         :math:`\lambda_{\min}`, > 0.
+    boundary : str
+        ``"unknown"`` or ``"mirror"`` (:func:`~blurloc.deconv.wiener_deconvolve`).
 
     Returns
     -------
@@ -160,7 +177,8 @@ def deblur_by_local_kernels(
     ------
     ValueError
         If the counts of frames, kernel lists and lengths differ, a frame's kernels or lengths
-        are not ``grid`` squared, ``grid`` < 1 or ``min_weight`` is not positive.
+        are not ``grid`` squared, ``grid`` < 1, ``min_weight`` is not positive or ``boundary`` is
+        unknown.
     """
     frames = np.asarray(frames)
     lengths_px = np.asarray(lengths_px, float)
@@ -173,8 +191,7 @@ def deblur_by_local_kernels(
         raise ValueError(f"one kernel and one length per frame and grid point: {len(frames)} "
                          f"frames, {len(kernels)} kernel lists, lengths {lengths_px.shape}, "
                          f"grid {grid}")  # fmt: skip
-    if not min_weight > 0:
-        raise ValueError(f"min_weight must be > 0, got {min_weight}")
+    _check_settings(min_weight, boundary)
     restored = np.array(frames, copy=True)
     weights = _blend_weights(frames.shape[1], frames.shape[2], grid)
     for index, frame in enumerate(frames):
@@ -189,11 +206,19 @@ def deblur_by_local_kernels(
         image = as_float_image(frame)
         blend = 0.0
         for point, kernel in enumerate(kernels[index]):
-            sharp = (wiener_deconvolve(image, kernel, nsr=weight, regulariser="gradient")
+            sharp = (wiener_deconvolve(image, kernel, weight, "gradient", boundary)
                      if usable[point] else image)  # fmt: skip
             blend = blend + weights[point][..., None] * sharp
         restored[index] = like_input(blend, frame)
     return restored
+
+
+def _check_settings(min_weight: float, boundary: str) -> None:
+    """Refuse a weight floor that is not positive or a boundary not in BOUNDARIES, naming it."""
+    if not min_weight > 0:
+        raise ValueError(f"min_weight must be > 0, got {min_weight}")
+    if boundary not in BOUNDARIES:
+        raise ValueError(f"boundary must be one of {BOUNDARIES}, got {boundary!r}")
 
 
 def _blend_weights(height: int, width: int, grid: int) -> np.ndarray:
