@@ -53,7 +53,7 @@ from blurloc.metrics import mean_frame_psnr
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.video_wiener import BOUNDARY, MIN_WEIGHT, deblur_by_kernels
 
-WEIGHTS = (0.02, 0.05, MIN_WEIGHT, 0.2)
+WEIGHTS = tuple(sorted({0.02, 0.05, 0.1, 0.2, MIN_WEIGHT}))
 FRAMES = 8
 SUBFRAMES = 9
 #: Sets: noise sigma and the floors run (with noise the blind rule's weight, about 20 sigma,

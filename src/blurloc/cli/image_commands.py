@@ -196,6 +196,8 @@ def _deblur_video(args: argparse.Namespace) -> int:
         raise ValueError("--grid is for --method motion")
     if args.grid is not None and args.grid < 1:
         raise ValueError(f"--grid must be >= 1, got {args.grid}")
+    if args.boundary is not None and args.method != "motion":
+        raise ValueError("--boundary is for --method motion")
     model = (
         None
         if args.method == "motion"
@@ -212,7 +214,8 @@ def _deblur_video(args: argparse.Namespace) -> int:
                              "RGB frames only and would change it (convert the frames, or use "
                              "`blurloc deblur`, which keeps depth and channels)")  # fmt: skip
     if args.method == "motion":  # the whole video in memory: each frame's path needs its neighbours
-        given = {"exposure_share": args.exposure_share, "grid": args.grid}
+        given = {"exposure_share": args.exposure_share, "grid": args.grid,
+                 "boundary": args.boundary}  # fmt: skip
         options = {name: value for name, value in given.items() if value is not None}
         restored = deblur_video_motion(np.stack(list(read_frames(paths))), **options)
     else:
@@ -303,6 +306,10 @@ def add_deblur_video_parser(commands: argparse._SubParsersAction) -> None:
                        help="with --method motion: kernels per side of a grid over each frame, "
                             "for a camera that turns about its optical axis or moves along it "
                             "(default 3; 1: one kernel per frame)")  # fmt: skip
+    video.add_argument("--boundary", choices=("unknown", "mirror"),
+                       help="with --method motion: the image beyond the frame solved for as "
+                            "unknown (default), or a mirror of the frame (several times "
+                            "faster, rings at the border where the camera pans)")  # fmt: skip
     video.add_argument("--checkpoint", help="network checkpoint (default: the shipped one)")
     video.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
     video.set_defaults(handler=_deblur_video)
