@@ -240,7 +240,7 @@ def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
 def _unknown_boundary_filter(
     image: np.ndarray, kernel: np.ndarray, nsr: float, regulariser: str, iterations: int
 ) -> np.ndarray:
-    """Eq. 4's least-squares problem with the image beyond the frame unknown (see
+    """The least-squares problem of eq. 4 with the image beyond the frame unknown (see
     :func:`wiener_deconvolve`), solved by preconditioned conjugate gradients on all channels at
     once, in single precision; ``image`` checked already. Returns the input's dtype (uint8
     rounded and clipped, float unclipped)."""
@@ -253,7 +253,7 @@ def _unknown_boundary_filter(
     penalty = np.full((shape[0], shape[1] // 2 + 1, 1), nsr, np.float32)
     if regulariser == "gradient":
         penalty = penalty * difference_power(shape)[..., None]
-    circulant = otf.real**2 + otf.imag**2 + penalty  # the normal matrix without the frame's edge
+    circulant = otf.real**2 + otf.imag**2 + penalty  # eq. 4's denominator: the normal matrix, no M
 
     def forward(plane: np.ndarray) -> np.ndarray:
         return scipy.fft.rfft2(plane, axes=(0, 1))
@@ -382,8 +382,8 @@ def wiener_deconvolve(
 
     Without M this is eq. 4 itself; with it, the normal equations are solved by ``iterations``
     steps of conjugate gradients preconditioned by eq. 4's own filter
-    :math:`(C^\top C + \Gamma)^{-1}` and started from the mirror result (about 6 transforms per
-    step instead of 2 in all).
+    :math:`(C^\top C + \Gamma)^{-1}` and started from the mirror result (6 transforms per step,
+    where the mirror filter needs 2 in all).
 
     Parameters
     ----------
