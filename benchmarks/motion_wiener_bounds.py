@@ -94,16 +94,15 @@ def video_gain(restored: np.ndarray, blurred: np.ndarray, sharp: np.ndarray, bor
     )
 
 
-def iteration_gains(blurred: np.ndarray, paths: list[np.ndarray], iterations: int) -> np.ndarray:
+def restored_with_steps(blurred: np.ndarray, paths: list[np.ndarray], steps: int) -> np.ndarray:
     """``blurred`` restored as :func:`~blurloc.video_wiener.deblur_by_kernels` restores it at
-    the shipped floor, with unknown boundaries solved by ``iterations`` conjugate-gradient
-    steps."""
+    the shipped floor, with unknown boundaries solved by ``steps`` conjugate-gradient steps."""
     restored = np.array(blurred, copy=True)
     for index, (frame, path) in enumerate(zip(blurred, paths, strict=True)):
         weight = max(blind_nsr(frame, "gradient"), MIN_WEIGHT)
         kernel = trajectory_kernel(path, origin=np.zeros(2))
         sharp = wiener_deconvolve(as_float_image(frame), kernel, weight, "gradient", "unknown",
-                                  iterations)  # fmt: skip
+                                  steps)  # fmt: skip
         restored[index] = like_input(sharp, frame)
     return restored
 
@@ -138,7 +137,7 @@ def main() -> None:
                                                "gain_db": round(value, 3)})  # fmt: skip
             if noise == 0.0:
                 for iterations in ITERATIONS:
-                    value = video_gain(iteration_gains(blurred, paths[METHOD], iterations),
+                    value = video_gain(restored_with_steps(blurred, paths[METHOD], iterations),
                                        blurred, sharp, 0)  # fmt: skip
                     iteration_rows.setdefault(iterations, []).append(value)
         errors = np.concatenate(errors)
