@@ -45,9 +45,8 @@ from video_motion_deblur import lead
 
 from blurloc.blur import exposure_paths, frame_shifts, trajectory_kernel
 from blurloc.blur.video_motion import path_length
-from blurloc.deconv import BOUNDARIES, BOUNDARY_ITERATIONS, blind_nsr, wiener_deconvolve
+from blurloc.deconv import BOUNDARIES, BOUNDARY_ITERATIONS
 from blurloc.experiments.photo_video import photo_video_motion, photo_video_set
-from blurloc.images import as_float_image, like_input
 from blurloc.intervals import paired_interval
 from blurloc.metrics import mean_frame_psnr
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
@@ -94,19 +93,6 @@ def video_gain(restored: np.ndarray, blurred: np.ndarray, sharp: np.ndarray, bor
     )
 
 
-def restored_with_steps(blurred: np.ndarray, paths: list[np.ndarray], steps: int) -> np.ndarray:
-    """``blurred`` restored as :func:`~blurloc.video_wiener.deblur_by_kernels` restores it at
-    the shipped floor, with unknown boundaries solved by ``steps`` conjugate-gradient steps."""
-    restored = np.array(blurred, copy=True)
-    for index, (frame, path) in enumerate(zip(blurred, paths, strict=True)):
-        weight = max(blind_nsr(frame, "gradient"), MIN_WEIGHT)
-        kernel = trajectory_kernel(path, origin=np.zeros(2))
-        sharp = wiener_deconvolve(as_float_image(frame), kernel, weight, "gradient", "unknown",
-                                  steps)  # fmt: skip
-        restored[index] = like_input(sharp, frame)
-    return restored
-
-
 def main() -> None:
     """Restore every test photo video by every path, floor and boundary, write the tables."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -136,9 +122,12 @@ def main() -> None:
                                                "region": region, "video": label,
                                                "gain_db": round(value, 3)})  # fmt: skip
             if noise == 0.0:
+                kernels = [trajectory_kernel(path, origin=np.zeros(2)) for path in paths[METHOD]]
+                lengths = np.array([path_length(path) for path in paths[METHOD]])
                 for iterations in ITERATIONS:
-                    value = video_gain(restored_with_steps(blurred, paths[METHOD], iterations),
-                                       blurred, sharp, 0)  # fmt: skip
+                    restored = deblur_by_kernels(blurred, kernels, lengths, MIN_WEIGHT, "unknown",
+                                                 iterations)  # fmt: skip
+                    value = video_gain(restored, blurred, sharp, 0)
                     iteration_rows.setdefault(iterations, []).append(value)
         errors = np.concatenate(errors)
         shift_rows.append({"set": set_name, "frame_pairs": len(errors),

@@ -207,6 +207,18 @@ def ccs_pack(spectrum: np.ndarray) -> np.ndarray:
     return packed
 
 
+def _mirror_padded(image: np.ndarray, kernel: np.ndarray) -> tuple[np.ndarray, int]:
+    """``image`` extended by mirror reflection by the kernel size plus 8 px on the top and left
+    and up to an even, fast DFT size (:func:`_even_dft_size`) on the bottom and right, and the
+    top-left margin (px)."""
+    pad = max(kernel.shape) + 8
+    height, width = image.shape[:2]
+    shape = (_even_dft_size(height + 2 * pad), _even_dft_size(width + 2 * pad))
+    padded = cv2.copyMakeBorder(image, pad, shape[0] - height - pad, pad, shape[1] - width - pad,
+                                cv2.BORDER_REFLECT_101)  # fmt: skip
+    return padded, pad
+
+
 def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
     """Apply a frequency response (a function of the OTF) to each channel, with mirror padding.
 
@@ -218,12 +230,9 @@ def _filter(image: np.ndarray, kernel: np.ndarray, response) -> np.ndarray:
     clipped to 0-255 (the filter works on the 0-255 scale, so no rescaling is needed), float
     unclipped."""
     kernel = check_kernel(kernel, image.shape)
-    pad = max(kernel.shape) + 8
+    padded, pad = _mirror_padded(image, kernel)
     height, width = image.shape[:2]
-    shape = (_even_dft_size(height + 2 * pad), _even_dft_size(width + 2 * pad))
-    gain = ccs_pack(response(kernel_to_otf(kernel, shape)))
-    padded = cv2.copyMakeBorder(image, pad, shape[0] - height - pad, pad, shape[1] - width - pad,
-                                cv2.BORDER_REFLECT_101)  # fmt: skip
+    gain = ccs_pack(response(kernel_to_otf(kernel, padded.shape[:2])))
     planes = cv2.split(padded) if image.ndim == 3 else [padded]
     restored = [
         cv2.idft(cv2.mulSpectrums(cv2.dft(np.float32(plane)), gain, 0),
@@ -245,10 +254,10 @@ def _unknown_boundary_filter(
     once, in single precision; ``image`` checked already. Returns the input's dtype (uint8
     rounded and clipped, float unclipped)."""
     kernel = check_kernel(kernel, image.shape)
-    pad = max(kernel.shape) + 8
     height, width = image.shape[:2]
-    shape = (_even_dft_size(height + 2 * pad), _even_dft_size(width + 2 * pad))
     planes = np.float32(image).reshape(height, width, -1)
+    mirrored, pad = _mirror_padded(planes, kernel)
+    shape = mirrored.shape[:2]
     otf = kernel_to_otf(kernel, shape)[..., None]
     penalty = np.full((shape[0], shape[1] // 2 + 1, 1), nsr, np.float32)
     if regulariser == "gradient":
@@ -273,8 +282,6 @@ def _unknown_boundary_filter(
     def precondition(residual: np.ndarray) -> np.ndarray:
         return inverse(forward(residual) / circulant)
 
-    mirrored = cv2.copyMakeBorder(planes, pad, shape[0] - height - pad, pad,
-                                  shape[1] - width - pad, cv2.BORDER_REFLECT_101)  # fmt: skip
     estimate = inverse(otf.conj() * forward(mirrored.reshape(*shape, -1)) / circulant)
     observed = np.zeros_like(estimate)
     observed[frame] = planes
@@ -296,6 +303,23 @@ def _unknown_boundary_filter(
     if image.dtype == np.uint8:
         return np.uint8(np.clip(np.rint(restored), 0, 255))
     return restored.astype(image.dtype)
+
+
+def check_boundary(boundary: str) -> None:
+    """Refuse a boundary treatment that is not one of BOUNDARIES, naming it.
+
+    Parameters
+    ----------
+    boundary : str
+        ``"mirror"`` or ``"unknown"`` (:func:`wiener_deconvolve`).
+
+    Raises
+    ------
+    ValueError
+        If ``boundary`` is not in BOUNDARIES.
+    """
+    if boundary not in BOUNDARIES:
+        raise ValueError(f"boundary must be one of {BOUNDARIES}, got {boundary!r}")
 
 
 def _check_regulariser(regulariser: str) -> None:
@@ -437,8 +461,7 @@ def wiener_deconvolve(
     boundaries). The paper's eq. 4.
     """
     _check_regulariser(regulariser)
-    if boundary not in BOUNDARIES:
-        raise ValueError(f"boundary must be one of {BOUNDARIES}, got {boundary!r}")
+    check_boundary(boundary)
     if iterations < 0:
         raise ValueError(f"iterations must be >= 0, got {iterations}")
     image = check_image(image)

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .blur.video_motion import DEFAULT_EXPOSURE_SHARE, LOCAL_GRID, grid_points, local_motion_kernels
-from .deconv import BOUNDARIES, blind_nsr, wiener_deconvolve
+from .deconv import BOUNDARY_ITERATIONS, blind_nsr, check_boundary, wiener_deconvolve
 from .images import as_float_image, like_input
 
 #: Smallest weight of the gradient regulariser, for frames without noise (chosen on GoPro-style
@@ -97,6 +97,7 @@ def deblur_by_kernels(
     lengths_px: np.ndarray,
     min_weight: float = MIN_WEIGHT,
     boundary: str = BOUNDARY,
+    iterations: int = BOUNDARY_ITERATIONS,
 ) -> np.ndarray:
     r"""Deconvolve each frame by its own kernel, as :func:`deblur_video_motion` does.
 
@@ -117,6 +118,9 @@ def deblur_by_kernels(
         :math:`\lambda_{\min}`, > 0.
     boundary : str
         ``"unknown"`` or ``"mirror"`` (:func:`~blurloc.deconv.wiener_deconvolve`).
+    iterations : int
+        Conjugate-gradient steps of the unknown boundary's solve
+        (:func:`~blurloc.deconv.wiener_deconvolve`).
 
     Returns
     -------
@@ -126,12 +130,12 @@ def deblur_by_kernels(
     Raises
     ------
     ValueError
-        If the counts of frames, kernels and lengths differ, ``min_weight`` is not positive or
-        ``boundary`` is unknown.
+        If the counts of frames, kernels and lengths differ, ``min_weight`` is not positive,
+        ``boundary`` is unknown or (once a frame is restored) ``iterations`` is negative.
     """
     return deblur_by_local_kernels(frames, [[kernel] for kernel in kernels],
-                                   np.reshape(lengths_px, (-1, 1)), 1, min_weight,
-                                   boundary)  # fmt: skip
+                                   np.reshape(lengths_px, (-1, 1)), 1, min_weight, boundary,
+                                   iterations)  # fmt: skip
 
 
 def deblur_by_local_kernels(
@@ -141,6 +145,7 @@ def deblur_by_local_kernels(
     grid: int,
     min_weight: float = MIN_WEIGHT,
     boundary: str = BOUNDARY,
+    iterations: int = BOUNDARY_ITERATIONS,
 ) -> np.ndarray:
     r"""Deconvolve each frame by the kernels of a grid of points, blended.
 
@@ -167,6 +172,9 @@ def deblur_by_local_kernels(
         :math:`\lambda_{\min}`, > 0.
     boundary : str
         ``"unknown"`` or ``"mirror"`` (:func:`~blurloc.deconv.wiener_deconvolve`).
+    iterations : int
+        Conjugate-gradient steps of the unknown boundary's solve
+        (:func:`~blurloc.deconv.wiener_deconvolve`).
 
     Returns
     -------
@@ -177,8 +185,8 @@ def deblur_by_local_kernels(
     ------
     ValueError
         If the counts of frames, kernel lists and lengths differ, a frame's kernels or lengths
-        are not ``grid`` squared, ``grid`` < 1, ``min_weight`` is not positive or ``boundary`` is
-        unknown.
+        are not ``grid`` squared, ``grid`` < 1, ``min_weight`` is not positive, ``boundary`` is
+        unknown or (once a frame is restored) ``iterations`` is negative.
     """
     frames = np.asarray(frames)
     lengths_px = np.asarray(lengths_px, float)
@@ -206,7 +214,7 @@ def deblur_by_local_kernels(
         image = as_float_image(frame)
         blend = 0.0
         for point, kernel in enumerate(kernels[index]):
-            sharp = (wiener_deconvolve(image, kernel, weight, "gradient", boundary)
+            sharp = (wiener_deconvolve(image, kernel, weight, "gradient", boundary, iterations)
                      if usable[point] else image)  # fmt: skip
             blend = blend + weights[point][..., None] * sharp
         restored[index] = like_input(blend, frame)
@@ -214,11 +222,10 @@ def deblur_by_local_kernels(
 
 
 def _check_settings(min_weight: float, boundary: str) -> None:
-    """Refuse a weight floor that is not positive or a boundary not in BOUNDARIES, naming it."""
+    """Refuse a weight floor that is not positive or an unknown boundary, naming it."""
     if not min_weight > 0:
         raise ValueError(f"min_weight must be > 0, got {min_weight}")
-    if boundary not in BOUNDARIES:
-        raise ValueError(f"boundary must be one of {BOUNDARIES}, got {boundary!r}")
+    check_boundary(boundary)
 
 
 def _blend_weights(height: int, width: int, grid: int) -> np.ndarray:
