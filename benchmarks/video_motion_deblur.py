@@ -4,14 +4,15 @@ blind deblurring frame by frame, with and without noise.
     python benchmarks/video_motion_deblur.py --standin data/standin
         [--clean-standin data/standin-clean-s8] [--frames 50] [--out-dir figures]
 
-First the exposure share (SHARES; None calibrates it per video from the blind estimates) and the
-floor of the gradient regulariser's weight (WEIGHTS) of
-:func:`blurloc.video_wiener.deblur_video_motion` are chosen on 12 noise-free GoPro-style videos
-of the photographs that the test videos do not show
-(:func:`~blurloc.experiments.photo_video.photo_training_videos`, 12 frames each): the pair with
-the largest mean gain among those under which no training video loses, as the deblurring
-targets ask of the test videos (the package's defaults, DEFAULT_EXPOSURE_SHARE and MIN_WEIGHT,
-are this choice). Then every method restores:
+First the exposure share (SHARES; None calibrates it per video from the blind estimates), the
+floor of the gradient regulariser's weight (WEIGHTS) and its weight per unit of the frame's
+estimated noise (PER_NOISE) of :func:`blurloc.video_wiener.deblur_video_motion` are chosen on
+12 GoPro-style videos of the photographs that the test videos do not show
+(:func:`~blurloc.experiments.photo_video.photo_training_videos`, 12 frames each), without noise
+and with sigma = 0.01: the setting with the largest mean gain (the mean of the two sets' means)
+among those under which no training video loses, as the deblurring targets ask of the test
+videos (the package's defaults, DEFAULT_EXPOSURE_SHARE, MIN_WEIGHT and WEIGHT_PER_NOISE, are
+this choice; ``--choose-only`` stops after it). Then every method restores:
 
 - the 15 GoPro-style photo videos of :func:`~blurloc.experiments.photo_video.photo_video_gains`
   (8 frames), without noise and with sigma = 0.01, and without noise with the camera also
@@ -58,10 +59,12 @@ from blurloc.experiments.photo_video import (
 from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
 from blurloc.intervals import Interval, paired_interval
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
-from blurloc.video_wiener import MIN_WEIGHT, deblur_video_motion
+from blurloc.video_wiener import MIN_WEIGHT, WEIGHT_PER_NOISE, deblur_video_motion
 
-WEIGHTS = (0.02, 0.05, 0.1, 0.2, 0.4)
+WEIGHTS = (0.01, 0.02, 0.03, 0.05, 0.1)
 SHARES = (None, 0.9, 1.0, 1.2)
+#: Weights of the regulariser per unit of the frame's estimated noise (blind deblurring's: 20).
+PER_NOISE = (5.0, 10.0, 20.0)
 #: The photo videos' exposure share: 9 sub-frames of the pan averaged into a frame that is 9
 #: sub-frame steps long.
 PHOTO_VIDEO_SHARE = 1.0
@@ -113,26 +116,41 @@ def gain(restore, blurred: np.ndarray, sharp: np.ndarray) -> float:
     return after - before
 
 
-def choose_settings() -> tuple[tuple[float | None, float], list[dict]]:
-    """The exposure share (SHARES; None: calibrated per video) and weight floor (WEIGHTS) with
-    the largest mean gain on noise-free training photo videos among the pairs under which no
-    video loses (all pairs where every one makes some video lose), and every pair's row. The
-    training videos are plain pans, whose image moves as one, so they are restored with one
-    kernel per frame (``grid=1``; a ninth of the grid's time)."""
-    videos = photo_training_videos(12, frames=12, seed=1, noise_sigma=0.0)
+def choose_settings() -> tuple[tuple[float | None, float, float], list[dict]]:
+    """The exposure share (SHARES; None: calibrated per video), weight floor (WEIGHTS) and
+    weight per unit of noise (PER_NOISE) with the largest mean gain on training photo videos
+    without noise and with sigma = 0.01 (the mean of the two sets' means) among the settings
+    under which no video of either set loses (all settings where every one makes some video
+    lose), and every setting's row. The training videos are plain pans, whose image moves as
+    one, so they are restored with one kernel per frame (``grid=1``; a ninth of the grid's
+    time)."""
+    training = {noise: photo_training_videos(12, frames=12, seed=1, noise_sigma=noise)
+                for noise in (0.0, 0.01)}  # fmt: skip
     rows = []
     for share in SHARES:
         for weight in WEIGHTS:
-            gains = [gain(lambda v, s=share, w=weight: deblur_video_motion(v, s, w, grid=1),
-                          *video) for video in videos]  # fmt: skip
-            rows.append({"exposure_share": "calibrated" if share is None else share,
-                         "min_weight": weight, "videos": len(videos),
-                         "mean_gain_db": round(float(np.mean(gains)), 3),
-                         "worst_video_db": round(float(np.min(gains)), 3)})  # fmt: skip
+            for per_noise in PER_NOISE:
+                row = {"exposure_share": "calibrated" if share is None else share,
+                       "min_weight": weight, "weight_per_noise": per_noise}  # fmt: skip
+                for noise, videos in training.items():
+                    gains = [gain(lambda v, s=share, w=weight, k=per_noise: deblur_video_motion(
+                                 v, s, w, grid=1, weight_per_noise=k), *video)
+                             for video in videos]  # fmt: skip
+                    row |= {
+                        f"videos_sigma_{noise}": len(videos),
+                        f"mean_gain_db_sigma_{noise}": round(float(np.mean(gains)), 3),
+                        f"worst_video_db_sigma_{noise}": round(float(np.min(gains)), 3),
+                    }
+                row["mean_gain_db"] = round(float(np.mean(
+                    [row[f"mean_gain_db_sigma_{noise}"] for noise in training])), 3)  # fmt: skip
+                row["worst_video_db"] = min(row[f"worst_video_db_sigma_{noise}"]
+                                            for noise in training)  # fmt: skip
+                rows.append(row)
+                print(row, flush=True)
     harmless = [row for row in rows if row["worst_video_db"] >= 0] or rows  # none below 0 dB
     best = max(harmless, key=lambda row: row["mean_gain_db"])
     share = None if best["exposure_share"] == "calibrated" else best["exposure_share"]
-    return (share, best["min_weight"]), rows
+    return (share, best["min_weight"], best["weight_per_noise"]), rows
 
 
 def main() -> None:
@@ -141,33 +159,42 @@ def main() -> None:
     parser.add_argument("--standin", type=Path, required=True)
     parser.add_argument("--clean-standin", type=Path)
     parser.add_argument("--frames", type=int, default=50)
+    parser.add_argument(
+        "--choose-only",
+        action="store_true",
+        help="choose the settings, print them and stop (no tables)",
+    )
     add_out_dir_argument(parser)
     args = parser.parse_args()
     start = time.perf_counter()
-    (share, weight), choice_rows = choose_settings()
-    if (share, weight) != (DEFAULT_EXPOSURE_SHARE, MIN_WEIGHT):
-        print(f"the choice differs from the package's defaults ({DEFAULT_EXPOSURE_SHARE}, "
-              f"{MIN_WEIGHT}): update them", file=sys.stderr)  # fmt: skip
-    print(f"chosen on training photo videos: exposure share {share}, weight floor {weight}",
-          flush=True)  # fmt: skip
+    (share, weight, per_noise), choice_rows = choose_settings()
+    defaults = (DEFAULT_EXPOSURE_SHARE, MIN_WEIGHT, WEIGHT_PER_NOISE)
+    if (share, weight, per_noise) != defaults:
+        print(f"the choice differs from the package's defaults {defaults}: update them",
+              file=sys.stderr)  # fmt: skip
+    print(f"chosen on training photo videos: exposure share {share}, weight floor {weight}, "
+          f"weight per noise {per_noise}", flush=True)  # fmt: skip
+    if args.choose_only:
+        return
     network = VideoRestorer(DEFAULT_CHECKPOINT)
 
     def methods(camera_share: float) -> dict:
+        weights = {"min_weight": weight, "weight_per_noise": per_noise}
         chosen = {
-            "video_motion": lambda v: deblur_video_motion(v, share, weight),
+            "video_motion": lambda v: deblur_video_motion(v, share, **weights),
             "video_motion, one kernel per frame": lambda v: deblur_video_motion(
-                v, share, weight, grid=1
+                v, share, grid=1, **weights
             ),
             "video_motion, mirror boundaries": lambda v: deblur_video_motion(
-                v, share, weight, boundary="mirror"
+                v, share, boundary="mirror", **weights
             ),
-            "video_motion, calibrated share": lambda v: deblur_video_motion(v, None, weight),
+            "video_motion, calibrated share": lambda v: deblur_video_motion(v, None, **weights),
             "blind_per_frame": lambda v: np.stack([deblur_blind(frame) for frame in v]),
             "network": network,
         }
         if camera_share != share:  # the camera's own share, where the chosen one is not it
             chosen["video_motion, the camera's exposure share"] = lambda v: deblur_video_motion(
-                v, camera_share, weight)  # fmt: skip
+                v, camera_share, **weights)  # fmt: skip
         return chosen
 
     sets = {"photo videos, no noise": (PHOTO_VIDEO_SHARE, photo_video_scores(0.0)),
@@ -201,9 +228,10 @@ def main() -> None:
                             "ci_low": round(interval.low, 3), "ci_high": round(interval.high, 3),
                             "verdict": lead(interval)})  # fmt: skip
             summary.append(row)
-    notes = (f"Exposure share and floor of the gradient regulariser's weight chosen on 12 "
-             f"noise-free training photo videos (other photographs): {share}, {weight} (the "
-             f"package's defaults: {DEFAULT_EXPOSURE_SHARE}, {MIN_WEIGHT}). The camera's exposure "
+    notes = (f"Exposure share, floor of the gradient regulariser's weight and its weight per unit "
+             f"of noise chosen on 12 training photo videos (other photographs), without noise "
+             f"and with sigma 0.01: {share}, {weight}, {per_noise} (the package's defaults: "
+             f"{defaults}). The camera's exposure "
              f"share: {PHOTO_VIDEO_SHARE} for the photo videos (9 sub-frames averaged over 9 "
              "steps of the pan: the chosen one, so not run again), the render's blur strength "
              "(exposure in frame intervals) for the stand-in. Gains: PSNR of the restored video "

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import skimage.data
 
-from blurloc.blur import trajectory_kernel
+from blurloc.blur import estimate_noise_sigma, trajectory_kernel
 from blurloc.blur.video_motion import (
     calibrate_exposure_share,
     exposure_paths,
@@ -109,6 +109,8 @@ def test_deblur_video_motion_refuses_what_is_not_a_video() -> None:
         deblur_video_motion(video.astype(np.float32))
     with pytest.raises(ValueError, match="min_weight"):
         deblur_video_motion(video, min_weight=0.0)
+    with pytest.raises(ValueError, match="weight_per_noise must be > 0, got -1"):
+        deblur_video_motion(video, weight_per_noise=-1.0)
     with pytest.raises(ValueError, match=r"boundary must be one of .*'periodic'"):
         deblur_video_motion(video, boundary="periodic")
 
@@ -262,6 +264,25 @@ def test_deblur_by_kernels_is_the_restoration_step_of_deblur_video_motion() -> N
         deblur_by_kernels(blurred, motion.kernels, motion.lengths_px, min_weight=0.0)
 
 
+def test_the_regularisers_weight_is_the_frames_noise_times_a_factor_with_a_floor() -> None:
+    """Each frame is deconvolved at max(weight_per_noise * its estimated noise, min_weight):
+    above the floor the factor sets the weight, below it the floor does."""
+    blurred, _ = photo_video(skimage.data.coffee(), frames=3, step_px=1.0, angle_deg=20.0,
+                             noise_sigma=0.02, seed=1)  # fmt: skip
+    motion = video_motion_kernels(blurred)
+    sigma = estimate_noise_sigma(blurred[1])
+    assert 0.015 < sigma < 0.025
+    restored = deblur_by_kernels(blurred, motion.kernels, motion.lengths_px, min_weight=1e-4,
+                                 weight_per_noise=7.0)  # fmt: skip
+    direct = wiener_deconvolve(blurred[1], motion.kernels[1], 7.0 * sigma, "gradient", "unknown")
+    assert np.abs(restored[1].astype(int) - direct).max() <= 1
+    floored = deblur_by_kernels(blurred, motion.kernels, motion.lengths_px, min_weight=0.5,
+                                weight_per_noise=7.0)  # fmt: skip
+    direct = wiener_deconvolve(blurred[1], motion.kernels[1], 0.5, "gradient", "unknown")
+    assert np.abs(floored[1].astype(int) - direct).max() <= 1
+    assert np.abs(floored[1].astype(int) - restored[1]).mean() > 1
+
+
 def _turned_centre_motion(frames: int, step: float, angle: float, roll: float) -> np.ndarray:
     """How the content at the frame's centre moves from frame to frame in a photo video whose
     camera also turns by ``roll`` degrees per sub-frame: the pan's step turned by the roll of
@@ -344,14 +365,23 @@ def test_local_kernels_where_the_image_moves_differently_across_the_frame() -> N
 
 def test_local_kernels_that_agree_restore_as_one_kernel_does() -> None:
     """Blending the same kernel at every grid point gives one kernel's restoration (the blend's
-    weights sum to 1), up to the last rounding; counts that do not match are refused."""
+    weights sum to 1): up to the last rounding with mirror boundaries, which restore the whole
+    frame per point; with unknown boundaries, where each point restores its own tile, up to the
+    unfinished conjugate-gradient solve (to within 3 grey levels after 40 steps, where tiles
+    and frame solve the same problem); counts that do not match are refused."""
     blurred, _ = photo_video(skimage.data.coffee(), frames=3, step_px=1.0, angle_deg=20.0,
                              noise_sigma=0.0, seed=1)  # fmt: skip
     motion = video_motion_kernels(blurred)
-    single = deblur_by_kernels(blurred, motion.kernels, motion.lengths_px)
     nine = np.repeat(motion.lengths_px[:, None], 9, axis=1)
-    blended = deblur_by_local_kernels(blurred, [[kernel] * 9 for kernel in motion.kernels], nine, 3)
+    same = [[kernel] * 9 for kernel in motion.kernels]
+    single = deblur_by_kernels(blurred, motion.kernels, motion.lengths_px, boundary="mirror")
+    blended = deblur_by_local_kernels(blurred, same, nine, 3, boundary="mirror")
     assert np.abs(blended.astype(int) - single).max() <= 1
+    for steps, largest, mean in ((10, 10, 0.3), (40, 3, 0.1)):
+        single = deblur_by_kernels(blurred, motion.kernels, motion.lengths_px, iterations=steps)
+        blended = deblur_by_local_kernels(blurred, same, nine, 3, iterations=steps)
+        difference = np.abs(blended.astype(int) - single)
+        assert difference.max() <= largest and difference.mean() < mean
     # only the top-left point's kernel deblurs: the frame changes where that point's weight
     # reaches (up to the next points, at x = 80 and y = 60) and nowhere else
     lengths = np.zeros((3, 9))

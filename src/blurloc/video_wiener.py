@@ -3,10 +3,11 @@
 The blind estimate of one frame (:func:`blurloc.deconv.deblur_blind`) reads a straight line off
 the frame's spectrum; a video also shows where the image went between frames, and so the path
 it took during each exposure (:mod:`blurloc.blur.video_motion`). Each frame is deconvolved with
-that path's kernel by Wiener's filter with the gradient regulariser, the image beyond the frame
-solved for as unknown (:func:`blurloc.deconv.wiener_deconvolve`); where the image moves
-differently in different parts of the frame (a turn about the optical axis, a move along it),
-with the kernels of a grid of points, blended. A frame whose path is under MIN_PATH_PX, or whose
+that path's kernel by Wiener's filter with the gradient regulariser, its weight set by the
+frame's noise, the image beyond the frame solved for as unknown
+(:func:`blurloc.deconv.wiener_deconvolve`); where the image moves differently in different
+parts of the frame (a turn about the optical axis, a move along it), with the kernels of a grid
+of points, each restoring its own part of the frame, blended. A frame whose path is under MIN_PATH_PX, or whose
 kernel is larger than the frame, is passed through.
 """
 
@@ -14,20 +15,27 @@ from __future__ import annotations
 
 import numpy as np
 
+from .blur import estimate_noise_sigma
 from .blur.video_motion import DEFAULT_EXPOSURE_SHARE, LOCAL_GRID, grid_points, local_motion_kernels
-from .deconv import BOUNDARY_ITERATIONS, blind_nsr, check_boundary, wiener_deconvolve
+from .deconv import BOUNDARY_ITERATIONS, check_boundary, wiener_deconvolve
 from .images import as_float_image, like_input
 
-#: Smallest weight of the gradient regulariser, for frames without noise (chosen on GoPro-style
-#: videos of the photographs that the test videos do not show:
-#: ``benchmarks/video_motion_deblur.py``).
-MIN_WEIGHT = 0.02
+#: Weight of the gradient regulariser per unit of the frame's estimated noise σ (Immerkær's;
+#: blind deblurring's is GRADIENT_WEIGHT_PER_NOISE, for kernels read off one frame), and its
+#: floor, for frames without noise: both chosen together on GoPro-style videos of the
+#: photographs that the test videos do not show, with and without noise
+#: (``benchmarks/video_motion_deblur.py``).
+WEIGHT_PER_NOISE = 10.0
+MIN_WEIGHT = 0.03
 #: How the frame's boundary is treated (:func:`blurloc.deconv.wiener_deconvolve`): the image
 #: beyond the frame unknown, so that the light a pan carries into the frame is explained
 #: (compared with mirror boundaries by ``benchmarks/video_motion_deblur.py``).
 BOUNDARY = "unknown"
 #: Frames whose image moves less than this during the exposure (px) are passed through.
 MIN_PATH_PX = 1.0
+#: With unknown boundaries, each grid point's kernel restores only the part of the frame its
+#: blend weight covers, widened by the kernel's size and this margin (px) on every side.
+TILE_MARGIN_PX = 8
 
 
 def deblur_video_motion(
@@ -36,6 +44,7 @@ def deblur_video_motion(
     min_weight: float = MIN_WEIGHT,
     grid: int = LOCAL_GRID,
     boundary: str = BOUNDARY,
+    weight_per_noise: float = WEIGHT_PER_NOISE,
 ) -> np.ndarray:
     r"""Deblur a video frame by frame with kernels from its own motion.
 
@@ -48,10 +57,11 @@ def deblur_video_motion(
     (:func:`~blurloc.blur.video_motion.local_motion_kernels`; with ``grid=1`` one point, the
     frame's centre), :math:`w_j` bilinear weights that are 1 at point j and fall
     to 0 at its neighbours (:func:`deblur_by_local_kernels`), and :math:`\lambda_t` = the larger
-    of blind deblurring's weight (:func:`~blurloc.deconv.blind_nsr`: GRADIENT_WEIGHT_PER_NOISE
-    σ_t) and ``min_weight``. The formula is the mirror boundary's; with ``boundary="unknown"``
-    (the default) each term is the least-squares image of
-    :func:`~blurloc.deconv.wiener_deconvolve` whose part beyond the frame is unknown.
+    of ``weight_per_noise`` :math:`\hat\sigma_t` (the frame's noise by Immerkær's estimate,
+    :func:`~blurloc.blur.estimate_noise_sigma`) and ``min_weight``. The formula is the mirror
+    boundary's; with ``boundary="unknown"`` (the default) each term is the least-squares image
+    of :func:`~blurloc.deconv.wiener_deconvolve` whose part beyond the frame (or beyond the
+    point's tile, :func:`deblur_by_local_kernels`) is unknown.
 
     Parameters
     ----------
@@ -68,6 +78,8 @@ def deblur_video_motion(
         frame pair, one kernel per frame).
     boundary : str
         ``"unknown"`` or ``"mirror"`` (:func:`~blurloc.deconv.wiener_deconvolve`).
+    weight_per_noise : float
+        The regulariser's weight per unit of estimated noise, > 0.
 
     Returns
     -------
@@ -78,17 +90,18 @@ def deblur_video_motion(
     ------
     ValueError
         If ``frames`` is not a (T, H, W, 3) uint8 video of at least two frames,
-        ``exposure_share`` or ``min_weight`` is not positive, ``grid`` < 1 or ``boundary`` is
-        unknown.
+        ``exposure_share``, ``min_weight`` or ``weight_per_noise`` is not positive, ``grid`` < 1
+        or ``boundary`` is unknown.
     """
     frames = np.asarray(frames)
     if frames.ndim != 4 or frames.shape[-1] != 3 or frames.dtype != np.uint8 or len(frames) < 2:
         raise ValueError(f"frames must be a (T, H, W, 3) uint8 video with T >= 2, got "
                          f"{frames.shape} {frames.dtype}")  # fmt: skip
-    _check_settings(min_weight, boundary)
+    _check_settings(min_weight, boundary, weight_per_noise)
     motion = local_motion_kernels(frames, exposure_share, grid)
     return deblur_by_local_kernels(frames, motion.kernels, motion.lengths_px, motion.grid,
-                                   min_weight, boundary)  # fmt: skip
+                                   min_weight, boundary,
+                                   weight_per_noise=weight_per_noise)  # fmt: skip
 
 
 def deblur_by_kernels(
@@ -98,6 +111,7 @@ def deblur_by_kernels(
     min_weight: float = MIN_WEIGHT,
     boundary: str = BOUNDARY,
     iterations: int = BOUNDARY_ITERATIONS,
+    weight_per_noise: float = WEIGHT_PER_NOISE,
 ) -> np.ndarray:
     r"""Deconvolve each frame by its own kernel, as :func:`deblur_video_motion` does.
 
@@ -121,6 +135,8 @@ def deblur_by_kernels(
     iterations : int
         Conjugate-gradient steps of the unknown boundary's solve
         (:func:`~blurloc.deconv.wiener_deconvolve`).
+    weight_per_noise : float
+        The regulariser's weight per unit of estimated noise (:func:`deblur_video_motion`), > 0.
 
     Returns
     -------
@@ -130,12 +146,13 @@ def deblur_by_kernels(
     Raises
     ------
     ValueError
-        If the counts of frames, kernels and lengths differ, ``min_weight`` is not positive,
-        ``boundary`` is unknown or (once a frame is restored) ``iterations`` is negative.
+        If the counts of frames, kernels and lengths differ, ``min_weight`` or
+        ``weight_per_noise`` is not positive, ``boundary`` is unknown or (once a frame is
+        restored) ``iterations`` is negative.
     """
     return deblur_by_local_kernels(frames, [[kernel] for kernel in kernels],
                                    np.reshape(lengths_px, (-1, 1)), 1, min_weight, boundary,
-                                   iterations)  # fmt: skip
+                                   iterations, weight_per_noise)  # fmt: skip
 
 
 def deblur_by_local_kernels(
@@ -146,6 +163,7 @@ def deblur_by_local_kernels(
     min_weight: float = MIN_WEIGHT,
     boundary: str = BOUNDARY,
     iterations: int = BOUNDARY_ITERATIONS,
+    weight_per_noise: float = WEIGHT_PER_NOISE,
 ) -> np.ndarray:
     r"""Deconvolve each frame by the kernels of a grid of points, blended.
 
@@ -153,9 +171,14 @@ def deblur_by_local_kernels(
     step of :func:`deblur_by_kernels`), and the results are blended with bilinear weights
     :math:`w_j(x) = \max(0, 1 - |x - x_j| / g_x) \max(0, 1 - |y - y_j| / g_y)` (:math:`g`:
     the grid's spacing; constant beyond the outermost points), which sum to 1 at every pixel:
-    the restoration follows a blur that changes smoothly across the frame. A point whose path
-    is under MIN_PATH_PX, or whose kernel is larger than the frame, contributes the frame as it
-    is; a frame where every point's does is passed through.
+    the restoration follows a blur that changes smoothly across the frame. With unknown
+    boundaries (and ``grid`` > 1) each point's kernel restores only the part of the frame where
+    its weight is above 0, widened by the kernel's size and TILE_MARGIN_PX: beyond that tile the
+    image is unknown, as beyond the frame, so the tile's restoration solves the frame's problem
+    there (the same at convergence but for the margin's reach; on a 3 x 3 grid a quarter to
+    under half of the frame per point, before the margin). A point whose path is under
+    MIN_PATH_PX, or whose kernel is larger than the frame, contributes the frame as it is; a
+    frame where every point's does is passed through.
 
     Parameters
     ----------
@@ -175,6 +198,8 @@ def deblur_by_local_kernels(
     iterations : int
         Conjugate-gradient steps of the unknown boundary's solve
         (:func:`~blurloc.deconv.wiener_deconvolve`).
+    weight_per_noise : float
+        The regulariser's weight per unit of estimated noise (:func:`deblur_video_motion`), > 0.
 
     Returns
     -------
@@ -185,8 +210,9 @@ def deblur_by_local_kernels(
     ------
     ValueError
         If the counts of frames, kernel lists and lengths differ, a frame's kernels or lengths
-        are not ``grid`` squared, ``grid`` < 1, ``min_weight`` is not positive, ``boundary`` is
-        unknown or (once a frame is restored) ``iterations`` is negative.
+        are not ``grid`` squared, ``grid`` < 1, ``min_weight`` or ``weight_per_noise`` is not
+        positive, ``boundary`` is unknown or (once a frame is restored) ``iterations`` is
+        negative.
     """
     frames = np.asarray(frames)
     lengths_px = np.asarray(lengths_px, float)
@@ -199,9 +225,10 @@ def deblur_by_local_kernels(
         raise ValueError(f"one kernel and one length per frame and grid point: {len(frames)} "
                          f"frames, {len(kernels)} kernel lists, lengths {lengths_px.shape}, "
                          f"grid {grid}")  # fmt: skip
-    _check_settings(min_weight, boundary)
+    _check_settings(min_weight, boundary, weight_per_noise)
     restored = np.array(frames, copy=True)
     weights = _blend_weights(frames.shape[1], frames.shape[2], grid)
+    covers = [_covered(weight) for weight in weights]
     for index, frame in enumerate(frames):
         usable = [
             length >= MIN_PATH_PX
@@ -210,21 +237,41 @@ def deblur_by_local_kernels(
         ]
         if not any(usable):
             continue  # no blur to undo, or paths that leave the frame
-        weight = max(blind_nsr(frame, "gradient"), min_weight)  # the blind rule, with a floor
+        weight = max(weight_per_noise * estimate_noise_sigma(frame), min_weight)
         image = as_float_image(frame)
-        blend = 0.0
+        blend = np.zeros_like(image)
         for point, kernel in enumerate(kernels[index]):
-            sharp = (wiener_deconvolve(image, kernel, weight, "gradient", boundary, iterations)
-                     if usable[point] else image)  # fmt: skip
-            blend = blend + weights[point][..., None] * sharp
+            if not usable[point]:
+                blend += weights[point][..., None] * image
+                continue
+            tile = np.s_[:, :]
+            if boundary == "unknown" and grid > 1:
+                tile = _widened(covers[point], max(kernel.shape) + TILE_MARGIN_PX, frame.shape)
+            sharp = wiener_deconvolve(image[tile], kernel, weight, "gradient", boundary,
+                                      iterations)  # fmt: skip
+            blend[tile] += weights[point][tile][..., None] * sharp
         restored[index] = like_input(blend, frame)
     return restored
 
 
-def _check_settings(min_weight: float, boundary: str) -> None:
-    """Refuse a weight floor that is not positive or an unknown boundary, naming it."""
-    if not min_weight > 0:
-        raise ValueError(f"min_weight must be > 0, got {min_weight}")
+def _covered(weight: np.ndarray) -> tuple[slice, slice]:
+    """The rows and columns where a blend weight is above 0."""
+    rows, columns = np.nonzero(weight.any(axis=1))[0], np.nonzero(weight.any(axis=0))[0]
+    return slice(rows[0], rows[-1] + 1), slice(columns[0], columns[-1] + 1)
+
+
+def _widened(cover: tuple[slice, slice], margin: int, shape: tuple[int, ...]) -> tuple:
+    """``cover`` widened by ``margin`` px on every side, within a frame of ``shape``."""
+    return tuple(slice(max(0, part.start - margin), min(size, part.stop + margin))
+                 for part, size in zip(cover, shape[:2], strict=True))  # fmt: skip
+
+
+def _check_settings(min_weight: float, boundary: str, weight_per_noise: float) -> None:
+    """Refuse a weight floor or weight per noise that is not positive or an unknown boundary,
+    naming it."""
+    for name, value in (("min_weight", min_weight), ("weight_per_noise", weight_per_noise)):
+        if not value > 0:
+            raise ValueError(f"{name} must be > 0, got {value}")
     check_boundary(boundary)
 
 
