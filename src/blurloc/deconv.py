@@ -412,7 +412,7 @@ def wiener_deconvolve(
     Without M this is eq. 4 itself; with it, the normal equations are solved by ``iterations``
     steps of conjugate gradients preconditioned by eq. 4's own filter
     :math:`(C^\top C + \Gamma)^{-1}` and started from the mirror result, on the iterates'
-    spectra (2 transforms per step, where the mirror filter needs 2 in all).
+    spectra (2 transforms per step; the mirror filter needs 2 in all).
 
     Parameters
     ----------

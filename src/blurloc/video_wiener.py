@@ -7,8 +7,8 @@ that path's kernel by Wiener's filter with the gradient regulariser, its weight 
 frame's noise, the image beyond the frame solved for as unknown
 (:func:`blurloc.deconv.wiener_deconvolve`); where the image moves differently in different
 parts of the frame (a turn about the optical axis, a move along it), with the kernels of a grid
-of points, each restoring its own part of the frame, blended. A frame whose path is under MIN_PATH_PX, or whose
-kernel is larger than the frame, is passed through.
+of points, each restoring its own part of the frame, blended. A frame whose path is under
+MIN_PATH_PX, or whose kernel is larger than the frame, is passed through.
 """
 
 from __future__ import annotations
