@@ -7,8 +7,9 @@ On the 15 GoPro-style photo videos of
 with sigma = 0.01), whose camera path is known exactly
 (:func:`~blurloc.experiments.photo_video.photo_video_motion`), every frame is deconvolved by
 the restoration step of :func:`blurloc.video_wiener.deblur_video_motion`
-(:func:`~blurloc.video_wiener.deblur_by_kernels`: the gradient regulariser, its weight the
-blind rule with a floor) with the kernel of one of three paths:
+(:func:`~blurloc.video_wiener.deblur_by_kernels`: the gradient regulariser, its weight
+WEIGHT_PER_NOISE times the frame's estimated noise with a floor) with the kernel of one of
+three paths:
 
 - ``measured motion``: the method with one kernel per frame (``deblur_video_motion(...,
   grid=1)``; these pans move the whole image as one), the 3-point path through the positions
@@ -21,7 +22,7 @@ blind rule with a floor) with the kernel of one of three paths:
 
 Without noise each at the weight floors WEIGHTS (the shipped one, MIN_WEIGHT, among them; the
 others are not chosen on anything, so the best of them on these videos is an oracle); with
-noise at the shipped floor only (the blind rule's weight, about 20 sigma, lies above them all).
+noise at the shipped floor only (the noise's weight, WEIGHT_PER_NOISE sigma, lies above it).
 Each with mirror boundaries and with the image beyond the frame unknown
 (:func:`~blurloc.deconv.wiener_deconvolve`'s BOUNDARIES; the shipped one: BOUNDARY), and, for
 the measured motion without noise, with ITERATIONS conjugate-gradient steps of the unknown
@@ -55,8 +56,8 @@ from blurloc.video_wiener import BOUNDARY, MIN_WEIGHT, deblur_by_kernels
 WEIGHTS = tuple(sorted({0.02, 0.05, 0.1, 0.2, MIN_WEIGHT}))
 FRAMES = 8
 SUBFRAMES = 9
-#: Sets: noise sigma and the floors run (with noise the blind rule's weight, about 20 sigma,
-#: lies above every floor, so only the shipped one is run).
+#: Sets: noise sigma and the floors run (with noise the noise's weight, WEIGHT_PER_NOISE sigma,
+#: lies above the shipped floor, which alone is run).
 SETS = {"photo videos, no noise": (0.0, WEIGHTS), "photo videos, sigma 0.01": (0.01, (MIN_WEIGHT,))}
 METHOD = "measured motion"
 #: Conjugate-gradient steps of the unknown-boundary solve tried (the iterations table).
