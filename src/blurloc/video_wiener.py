@@ -167,18 +167,19 @@ def deblur_by_local_kernels(
 ) -> np.ndarray:
     r"""Deconvolve each frame by the kernels of a grid of points, blended.
 
-    Frame t is deconvolved with each point's kernel :math:`c_{t,j}` over the whole frame (the
-    step of :func:`deblur_by_kernels`), and the results are blended with bilinear weights
+    Frame t is deconvolved with each point's kernel :math:`c_{t,j}` (the step of
+    :func:`deblur_by_kernels`), and the results are blended with bilinear weights
     :math:`w_j(x) = \max(0, 1 - |x - x_j| / g_x) \max(0, 1 - |y - y_j| / g_y)` (:math:`g`:
     the grid's spacing; constant beyond the outermost points), which sum to 1 at every pixel:
-    the restoration follows a blur that changes smoothly across the frame. With unknown
-    boundaries (and ``grid`` > 1) each point's kernel restores only the part of the frame where
-    its weight is above 0, widened by the kernel's size and TILE_MARGIN_PX: beyond that tile the
-    image is unknown, as beyond the frame, so the tile's restoration solves the frame's problem
-    there (the same at convergence but for the margin's reach; on a 3 x 3 grid a quarter to
-    under half of the frame per point, before the margin). A point whose path is under
-    MIN_PATH_PX, or whose kernel is larger than the frame, contributes the frame as it is; a
-    frame where every point's does is passed through.
+    the restoration follows a blur that changes smoothly across the frame. With mirror
+    boundaries each kernel restores the whole frame (a mirror at a tile's inner edge would make
+    up content). With unknown boundaries each kernel restores only its tile: the part of the
+    frame where its weight is above 0 (with one point, all of it), widened by the kernel's size
+    and TILE_MARGIN_PX; beyond the tile the image is unknown, as beyond the frame, so the tile's
+    restoration solves the frame's problem there (the same at convergence but for the margin's
+    reach; on a 3 x 3 grid a quarter to under half of the frame per point, before the margin).
+    A point whose path is under MIN_PATH_PX, or whose kernel is larger than the frame,
+    contributes the frame as it is; a frame where every point's does is passed through.
 
     Parameters
     ----------
@@ -245,7 +246,7 @@ def deblur_by_local_kernels(
                 blend += weights[point][..., None] * image
                 continue
             tile = np.s_[:, :]
-            if boundary == "unknown" and grid > 1:
+            if boundary == "unknown":
                 tile = _widened(covers[point], max(kernel.shape) + TILE_MARGIN_PX, frame.shape)
             sharp = wiener_deconvolve(image[tile], kernel, weight, "gradient", boundary,
                                       iterations)  # fmt: skip
