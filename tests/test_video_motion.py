@@ -9,12 +9,14 @@ import skimage.data
 
 from blurloc.blur import estimate_noise_sigma, trajectory_kernel
 from blurloc.blur.video_motion import (
+    MAX_CORRECTED_SHARE,
     calibrate_exposure_share,
     exposure_paths,
     frame_shifts,
     frame_warps,
     grid_points,
     local_motion_kernels,
+    mid_exposure_shifts,
     path_length,
     video_motion_kernels,
 )
@@ -60,6 +62,49 @@ def test_a_frame_without_structure_keeps_the_phase_correlation() -> None:
     flat = np.full((3, 120, 160, 3), 128, np.uint8)
     shifts = frame_shifts(flat)  # ECC cannot converge on a flat frame: no error, finite shifts
     assert shifts.shape == (2, 2) and np.all(np.isfinite(shifts))
+
+
+@pytest.mark.parametrize("share", [0.5, 1.0])
+def test_mid_exposure_shifts_undo_the_centroid_of_an_accelerating_camera(share: float) -> None:
+    times = np.arange(8.0)
+
+    def position(t):  # a camera speeding up along x while it sways along y
+        return np.stack([0.4 * t**2 + 2 * t, 3 * np.sin(t)], axis=-1)
+
+    offsets = np.linspace(-share / 2, share / 2, 2001)  # the exposure, densely sampled
+    centroids = position(times[:, None] + offsets[None, :]).mean(axis=1)
+    middles = position(times)
+    measured = np.diff(centroids, axis=0)  # what aligning the blurred frames gives
+    truth = np.diff(middles, axis=0)
+    corrected = mid_exposure_shifts(measured, share)
+    inner = np.s_[1:-1]  # the end frames continue their neighbour's motion: no curvature there
+    raw_error = np.abs(measured - truth)[inner].max()
+    assert raw_error > 0.01 * share**2  # the centroids are off the middles...
+    # ... by the curvature's s^2 / 24, which the correction removes up to the sway's
+    # departure from a parabola over the exposure
+    assert np.abs(corrected - truth)[inner].max() < 0.25 * raw_error
+    steady = np.tile([3.0, -1.0], (5, 1))  # no acceleration: centroids are the middles
+    np.testing.assert_allclose(mid_exposure_shifts(steady, share), steady, atol=1e-12)
+
+
+def test_mid_exposure_shifts_bring_measured_shifts_closer_to_the_middle_frames() -> None:
+    blurred, _ = photo_video(skimage.data.astronaut(), frames=8, step_px=1.0, angle_deg=30.0,
+                             noise_sigma=0.0)  # fmt: skip
+    truth = np.diff(photo_video_motion(8, 9, 1.0, 30.0)[:, 4], axis=0)  # middle sub-frames
+    measured = frame_shifts(blurred)
+    raw_error = np.abs(measured - truth).mean()
+    assert np.abs(mid_exposure_shifts(measured, 1.0) - truth).mean() < 0.8 * raw_error
+
+
+def test_mid_exposure_shifts_check_their_input() -> None:
+    shifts = np.array([[1.0, 0.0], [3.0, 0.0], [4.0, 1.0]])
+    beyond = mid_exposure_shifts(shifts, MAX_CORRECTED_SHARE + 0.5)  # near-singular: kept
+    np.testing.assert_array_equal(beyond, shifts)
+    assert not np.allclose(mid_exposure_shifts(shifts, 1.0), shifts)
+    with pytest.raises(ValueError, match="exposure_share"):
+        mid_exposure_shifts(shifts, 0.0)
+    with pytest.raises(ValueError, match="shifts"):
+        mid_exposure_shifts(np.ones((2, 3)), 1.0)
 
 
 def test_exposure_paths_follow_the_motion_over_the_exposure_share() -> None:

@@ -48,6 +48,7 @@ from .video_motion import (
     frame_warps,
     grid_points,
     local_motion_kernels,
+    mid_exposure_shifts,
     video_motion_kernels,
 )
 
@@ -87,6 +88,7 @@ __all__ = [
     "length_from_features",
     "local_motion_kernels",
     "log_power_spectrum",
+    "mid_exposure_shifts",
     "motion_kernel",
     "shake_path",
     "to_gray",

@@ -4,7 +4,9 @@ A frame of a video is blurred by the motion of the image during its exposure (eq
 same motion moves the image from one frame to the next. Measured between consecutive frames
 (phase correlation refined by ECC), the motion gives each frame's path: a curve through the
 image positions of the frames before, at and after it, of which the exposure covers a share
-around the frame's own position. That share (exposure time over frame interval: about 1 for
+around the frame's own position. Blurred frames align at their blurs' centroids, which a camera
+that speeds up or slows down puts off mid-exposure: the measured positions are moved there
+first (:func:`mid_exposure_shifts`). That share (exposure time over frame interval: about 1 for
 frames averaged the GoPro way, whose N sub-frames spread over N steps of the motion; 0.5 for a
 180° shutter) is a setting of the camera; where it is not known it can be read from the frames'
 blind blur estimates where their sinc zeros are trusted (:func:`calibrate_exposure_share`).
@@ -20,6 +22,7 @@ from dataclasses import dataclass
 
 import cv2
 import numpy as np
+from scipy.linalg import solve_banded
 
 from .estimation import estimate_motion_blur
 from .kernels import trajectory_kernel
@@ -31,6 +34,13 @@ PATH_POINTS = 9
 #: averaged the GoPro way are (chosen among the calibrated share, 0.9, 1.0 and 1.2 on GoPro-style
 #: videos of photographs that the test videos do not show: ``benchmarks/video_motion_deblur.py``).
 DEFAULT_EXPOSURE_SHARE = 1.0
+#: The measured shifts are moved from the blurs' centroids to mid-exposure
+#: (:func:`mid_exposure_shifts`) where that amplifies their noise by at most this much: by
+#: 1 / (1 - s^2 / 6) at the motion's fastest alternation, so for exposure shares s up to
+#: MAX_CORRECTED_SHARE = sqrt(6 (1 - 1 / MAX_CORRECTION_GAIN)), 2.32 (the system turns singular
+#: at sqrt(6) = 2.45).
+MAX_CORRECTION_GAIN = 10.0
+MAX_CORRECTED_SHARE = float(np.sqrt(6 * (1 - 1 / MAX_CORRECTION_GAIN)))
 #: Frames whose image moves less than this (px per frame) do not calibrate the exposure share.
 CALIBRATION_MIN_MOTION_PX = 1.0
 #: Refinement of the displacement between frames by ECC (:func:`frame_shifts`): at most this
@@ -290,6 +300,63 @@ def exposure_paths(
     return list(u * velocity + u**2 * curvature)
 
 
+def mid_exposure_shifts(shifts: np.ndarray, exposure_share: float) -> np.ndarray:
+    r"""Displacements between the frames' mid-exposure positions, from those between blurred frames.
+
+    Two blurred frames align where their blurs' centroids coincide: what :func:`frame_shifts`
+    measures is the displacement between the exposure paths' centroids :math:`c_t`, and the
+    paths of :func:`exposure_paths` pass through the mid-exposure positions :math:`m_t`, which
+    the truth of a video averaged the GoPro way shows (its middle frame). Averaged over the
+    exposure :math:`|u| \le s / 2`, that parabola is
+
+    .. math::
+
+        c_t = m_t + \frac{s^2}{24} \left( m_{t+1} - 2 m_t + m_{t-1} \right)
+
+    (:math:`\langle u^2 \rangle = s^2 / 12`), so a camera that speeds up or slows down puts the
+    centroid off the middle by a few hundredths of its change of speed. The tridiagonal system is
+    solved for :math:`m`; the first and last frames continue their one neighbour's motion (no
+    curvature: :math:`m = c` there). The solve amplifies the measurement's noise by up to
+    :math:`1 / (1 - s^2 / 6)` (the motion's fastest alternation; singular at :math:`s = \sqrt{6}`):
+    shares beyond MAX_CORRECTED_SHARE, where that exceeds MAX_CORRECTION_GAIN, keep the
+    centroids' shifts. A real camera's exposure fits in its frame interval (:math:`s \le 1`:
+    at most 1.2x).
+
+    Parameters
+    ----------
+    shifts : numpy.ndarray
+        (T - 1, 2) displacements between consecutive blurred frames (:func:`frame_shifts`).
+    exposure_share : float
+        s: exposure time over frame interval, > 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        (T - 1, 2) displacements between consecutive mid-exposure positions, px.
+
+    Raises
+    ------
+    ValueError
+        If ``shifts`` is not (T - 1, 2) with T >= 2 or ``exposure_share`` is not positive.
+    """
+    shifts = np.asarray(shifts, float)
+    if shifts.ndim != 2 or shifts.shape[1] != 2 or len(shifts) < 1:
+        raise ValueError(f"shifts must be (T - 1, 2) with T >= 2, got {shifts.shape}")
+    if not exposure_share > 0:
+        raise ValueError(f"exposure_share must be > 0, got {exposure_share}")
+    if exposure_share > MAX_CORRECTED_SHARE:
+        return shifts
+    centroids = np.vstack([np.zeros((1, 2)), np.cumsum(shifts, axis=0)])
+    weight = exposure_share**2 / 24
+    count = len(centroids)
+    banded = np.zeros((3, count))  # rows: above, on and below the diagonal
+    banded[1] = 1.0
+    banded[1, 1:-1] -= 2 * weight
+    banded[0, 2:] = weight
+    banded[2, :-2] = weight
+    return np.diff(solve_banded((1, 1), banded, centroids), axis=0)
+
+
 def path_length(path: np.ndarray) -> float:
     """Length of a path (px): the sum of its segments.
 
@@ -409,7 +476,8 @@ def local_motion_kernels(
         \Delta_{t,j} = A_t x_j + b_t - x_j
 
     and the kernel of frame t at :math:`x_j` that of its exposure path through those
-    displacements (:func:`exposure_paths`). The step into frame t is read at :math:`x_j` too,
+    displacements, moved from the blurs' centroids to mid-exposure (:func:`mid_exposure_shifts`,
+    :func:`exposure_paths`). The step into frame t is read at :math:`x_j` too,
     where strictly it is that of the content which reaches :math:`x_j`: the two differ by about
     :math:`(A_{t-1} - I)\,\Delta_{t-1}`, a few tenths of a pixel for a camera turning 3° per
     frame while it pans 10 px. With ``grid=1`` the one point is the frame's centre
@@ -448,8 +516,8 @@ def local_motion_kernels(
         warps = frame_warps(frames, shifts)
         displacements = (np.einsum("tij,pj->tpi", warps[:, :, :2], points)
                          + warps[:, None, :, 2] - points)  # fmt: skip
-    paths = [exposure_paths(displacements[:, point], exposure_share)
-             for point in range(displacements.shape[1])]  # fmt: skip
+    paths = [exposure_paths(mid_exposure_shifts(displacements[:, point], exposure_share),
+                            exposure_share) for point in range(displacements.shape[1])]  # fmt: skip
     return LocalVideoMotion(
         grid=grid,
         points=points,
