@@ -3,7 +3,7 @@
     python benchmarks/bench_pose_real.py [--data samples/real/recording] [--scene fr1_rpy]
         [--standin ROOT] [--standin-scene chess] [--seeds 3] [--variant fixed_crop=true ...]
         [--standin-variant resize=120,crop=104 ...]
-        [--work /tmp/bench-pose-real] [--out-dir figures]
+        [--work /tmp/bench-pose-real] [--validation-sequences 2,6] [--out-dir figures]
 
 On a real recording in the 7-Scenes layout (default: the committed TUM RGB-D ``freiburg1_rpy``
 recording, ``samples/real/recording``, its test sequences lying between training ones) and on
@@ -31,6 +31,11 @@ position spread is also given as the angle the mean pose's median position error
 the scene's median depth: a translation that small moves the image about as a turn of that
 angle does. Runs are kept under ``--work`` and reused. Writes ``<out-dir>/bench_pose_real.md``
 and ``.csv`` with the command and the date.
+
+``--validation-sequences 2,6`` chooses settings without the test split: those training
+sequences of the real recording become the split scored (held out of training), the test
+sequences are not read at all, and every row is a validation score. Choose the variant there,
+then score it on the test split in a run without the option.
 """
 
 from __future__ import annotations
@@ -41,7 +46,7 @@ from pathlib import Path
 
 import numpy as np
 
-from blurloc.data import load_split
+from blurloc.data import DataError, load_split, validation_root
 from blurloc.data.real import RECORDING_SCENE, posed_frame_table, recording_root
 from blurloc.data.sevenscenes import read_depth
 from blurloc.experiments.pose import mean_pose_baseline, nearest_view_baseline
@@ -187,7 +192,7 @@ def dataset_rows(label: str, root: Path, scene: str, seeds: int, variants: dict[
         for seed in range(seeds):
             config = variant_config(overrides, seed)
             kind = name.replace(",", "_") if overrides else "defaults"
-            folder = work / label.split()[0] / kind / f"seed-{seed}"
+            folder = work / label.replace(" ", "-") / kind / f"seed-{seed}"
             result = run_seed(root, scene, folder, config, cache)
             per_seed.append(result)
             print(label, name, seed, result, flush=True)
@@ -243,20 +248,32 @@ def main() -> None:
     parser.add_argument("--work", type=Path, default=Path("/tmp/bench-pose-real"))
     parser.add_argument("--stem", default="bench_pose_real",
                         help="name of the written tables (default: %(default)s)")  # fmt: skip
+    parser.add_argument("--validation-sequences", default=None,
+                        help="training sequences held out and scored instead of the test split, "
+                        "e.g. 2,6 (choosing settings without the test split)")  # fmt: skip
     add_out_dir_argument(parser)
     args = parser.parse_args()
     if args.seeds < 2:
         parser.error(f"--seeds {args.seeds}: at least 2 (each regressor's interval is over seeds)")
     variants = {text: parse_variant(text) for text in args.variant}
     data = args.data or recording_root()
-    rows = dataset_rows(f"real {args.scene}", data, args.scene, args.seeds, variants,
+    label = f"real {args.scene}"
+    scored = "test"
+    if args.validation_sequences:
+        held_out = [int(n) for n in args.validation_sequences.split(",")]
+        try:
+            data = validation_root(data, args.scene, held_out, args.work / "validation-root")
+        except DataError as error:
+            parser.error(f"--validation-sequences {args.validation_sequences}: {error}")
+        label, scored = f"real {args.scene} validation", "validation"
+    rows = dataset_rows(label, data, args.scene, args.seeds, variants,
                         args.work)  # fmt: skip
     if args.standin is not None:
         rows += dataset_rows(f"stand-in {args.standin_scene}", args.standin, args.standin_scene,
                              args.seeds, {t: parse_variant(t) for t in args.standin_variant},
                              args.work)  # fmt: skip
     notes = (
-        f"Median test errors; ratios to the mean pose's; regressor rows: mean over seeds, "
+        f"Median {scored} errors; ratios to the mean pose's; regressor rows: mean over seeds, "
         "95 % t-interval of the mean; paired rows: per-seed differences of ratios "
         "(negative: the first is better). Targets on real frames: position <= "
         f"{TARGETS[0]}x, orientation <= {TARGETS[1]}x. Real: {data} (scene {args.scene}); "

@@ -45,8 +45,8 @@ from pathlib import Path
 import numpy as np
 from bench_pose_real import TARGETS, interval_text, lower, parse_variant, run_seed, variant_config
 
+from blurloc.data import DataError, validation_root
 from blurloc.data.real import RECORDING_SCENE, recording_root
-from blurloc.data.sevenscenes import SPLIT_FILES, read_split
 from blurloc.experiments.pose import mean_pose_baseline
 from blurloc.experiments.retrieval import retrieval_baseline
 from blurloc.intervals import paired_interval
@@ -59,47 +59,6 @@ CANDIDATES = ("defaults", "resize=80,crop=70", "resize=96,crop=84", "resize=120,
               "fixed_crop=true", "lr=0.002")  # fmt: skip
 #: Most time per epoch a candidate may cost, as a multiple of the defaults', to be picked.
 MAX_COST = 1.5
-
-
-def validation_root(data: Path, scene: str, held_out: list[int], folder: Path) -> Path:
-    """A root whose ``scene`` trains on ``data``'s training sequences minus ``held_out`` and
-    tests on ``held_out``; its sequences are links to ``data``'s.
-
-    Parameters
-    ----------
-    data : Path
-        A 7-Scenes-layout root.
-    scene : str
-        Its scene.
-    held_out : list of int
-        Training sequences of ``data`` held out for validation.
-    folder : Path
-        Where the root is made (its split files rewritten every call).
-
-    Returns
-    -------
-    Path
-        ``folder``.
-
-    Raises
-    ------
-    ValueError
-        When a held-out sequence is not a training sequence, or none would be left to train on.
-    """
-    train = read_split(data / scene, "train")
-    if not set(held_out) <= set(train) or len(set(held_out)) >= len(train):
-        raise ValueError(f"--validation {held_out} must be some, not all, of the training "
-                         f"sequences {train}")  # fmt: skip
-    scene_dir = folder / scene
-    scene_dir.mkdir(parents=True, exist_ok=True)
-    for number in train:
-        link = scene_dir / f"seq-{number:02d}"
-        if not link.exists():
-            link.symlink_to((data / scene / f"seq-{number:02d}").resolve())
-    splits = {"train": [n for n in train if n not in held_out], "test": list(held_out)}
-    for split, numbers in splits.items():
-        (scene_dir / SPLIT_FILES[split]).write_text("".join(f"sequence{n}\n" for n in numbers))
-    return folder
 
 
 def train_candidates(root: Path, scene: str, names: list[str], seeds: int, threads: int,
@@ -222,7 +181,10 @@ def main() -> None:
     args = parser.parse_args()
     data = args.data or recording_root()
     names = list(CANDIDATES)
-    root = validation_root(data, args.scene, args.validation, args.work / "validation-root")
+    try:
+        root = validation_root(data, args.scene, args.validation, args.work / "validation-root")
+    except DataError as error:
+        parser.error(f"--validation {' '.join(map(str, args.validation))}: {error}")
     found = train_candidates(root, args.scene, names, args.seeds, args.threads,
                              args.work / "validation")  # fmt: skip
     training_s = sum(found[name]["train_s"] for name in names)

@@ -22,6 +22,7 @@ from blurloc.data import (
     read_pose,
     read_split,
     split_one_sequence,
+    validation_root,
 )
 from blurloc.files import link_or_copy
 from blurloc.geometry import quaternion_to_rotation
@@ -319,3 +320,19 @@ def test_one_recording_is_cut_into_a_training_and_a_test_sequence(
     shutil.copytree(train_sequence.folder, odd)
     with pytest.raises(DataError, match="seq-XX"):
         split_one_sequence(odd, tmp_path / "other", "chess", 4)
+
+
+def test_a_validation_root_holds_training_sequences_out_and_the_test_ones_out_of_reach(
+    quick_root: Path, tmp_path: Path
+) -> None:
+    (recording,) = load_split(quick_root, "chess", "train")
+    cut = split_one_sequence(recording.folder, tmp_path / "cut", "chess", 4, blocks=2)
+    assert read_split(cut / "chess", "test") == [3, 4]
+    root = validation_root(cut, "chess", [2], tmp_path / "validation")
+    (train,), (held,) = load_split(root, "chess", "train"), load_split(root, "chess", "test")
+    np.testing.assert_array_equal(train.poses(), recording.poses()[[0, 1]])
+    np.testing.assert_array_equal(held.poses(), recording.poses()[[4, 5]])
+    assert sorted(p.name for p in (root / "chess").glob("seq-*")) == ["seq-01", "seq-02"]
+    for bad in ([3], [1, 2]):  # a test sequence; no training sequence left
+        with pytest.raises(DataError, match="must be some, not all, of the training"):
+            validation_root(cut, "chess", bad, tmp_path / "other")

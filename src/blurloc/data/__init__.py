@@ -12,6 +12,7 @@ from .sevenscenes import (
     read_pose,
     read_split,
     split_one_sequence,
+    validation_root,
 )
 
 __all__ = [
@@ -25,4 +26,5 @@ __all__ = [
     "read_pose",
     "read_split",
     "split_one_sequence",
+    "validation_root",
 ]

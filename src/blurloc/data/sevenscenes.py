@@ -346,6 +346,56 @@ def check_data(root: str | os.PathLike, progress: bool = False, workers: int = 4
     return {"scenes": summary}
 
 
+def validation_root(
+    data: str | os.PathLike, scene: str, held_out: Sequence[int], folder: str | os.PathLike
+) -> Path:
+    """A root that holds some training sequences out for validation, the test ones out of reach.
+
+    How settings are chosen without the test split: ``folder/<scene>`` links every training
+    sequence of ``data``; its TrainSplit.txt lists them minus ``held_out`` and its
+    TestSplit.txt lists ``held_out``. The test sequences of ``data`` are neither linked nor
+    listed, so nothing trained or scored on the new root can read them. The split files are
+    rewritten on every call; existing links are kept.
+
+    Parameters
+    ----------
+    data : str or os.PathLike
+        A 7-Scenes-layout root.
+    scene : str
+        Its scene.
+    held_out : sequence of int
+        Training sequences of ``data`` held out for validation (numbers as in the split files).
+    folder : str or os.PathLike
+        The root to make.
+
+    Returns
+    -------
+    Path
+        ``folder``.
+
+    Raises
+    ------
+    DataError
+        When a held-out sequence is not a training sequence of ``data``, or none would be left
+        to train on.
+    """
+    data, folder = Path(data), Path(folder)
+    train = read_split(data / scene, "train")
+    if not set(held_out) <= set(train) or len(set(held_out)) >= len(train):
+        raise DataError(f"{data / scene}: held-out sequences {list(held_out)} must be some, not "
+                        f"all, of the training sequences {train}")  # fmt: skip
+    scene_dir = folder / scene
+    scene_dir.mkdir(parents=True, exist_ok=True)
+    for number in train:
+        link = scene_dir / f"seq-{number:02d}"
+        if not link.exists():
+            link.symlink_to((data / scene / f"seq-{number:02d}").resolve())
+    splits = {"train": [n for n in train if n not in held_out], "test": list(held_out)}
+    for split, numbers in splits.items():
+        (scene_dir / SPLIT_FILES[split]).write_text("".join(f"sequence{n}\n" for n in numbers))
+    return folder
+
+
 def split_one_sequence(
     sequence_folder: str | os.PathLike,
     out_root: str | os.PathLike,
