@@ -3,7 +3,7 @@
     python benchmarks/bench_pose_real.py [--data samples/real/recording] [--scene fr1_rpy]
         [--standin ROOT] [--standin-scene chess] [--seeds 3] [--variant fixed_crop=true ...]
         [--standin-variant resize=120,crop=104 ...]
-        [--work /tmp/bench-pose-real] [--validation-sequences 2,6] [--out-dir figures]
+        [--work /tmp/bench-pose-real] [--validation 2 6] [--out-dir figures]
 
 On a real recording in the 7-Scenes layout (default: the committed TUM RGB-D ``freiburg1_rpy``
 recording, ``samples/real/recording``, its test sequences lying between training ones) and on
@@ -32,7 +32,7 @@ the scene's median depth: a translation that small moves the image about as a tu
 angle does. Runs are kept under ``--work`` and reused. Writes ``<out-dir>/bench_pose_real.md``
 and ``.csv`` with the command and the date.
 
-``--validation-sequences 2,6`` chooses settings without the test split: those training
+``--validation 2 6`` chooses settings without the test split: those training
 sequences of the real recording become the split scored (held out of training), the test
 sequences are not read at all, and every row is a validation score. Choose the variant there,
 then score it on the test split in a run without the option.
@@ -248,9 +248,9 @@ def main() -> None:
     parser.add_argument("--work", type=Path, default=Path("/tmp/bench-pose-real"))
     parser.add_argument("--stem", default="bench_pose_real",
                         help="name of the written tables (default: %(default)s)")  # fmt: skip
-    parser.add_argument("--validation-sequences", default=None,
+    parser.add_argument("--validation", type=int, nargs="+", default=None,
                         help="training sequences held out and scored instead of the test split, "
-                        "e.g. 2,6 (choosing settings without the test split)")  # fmt: skip
+                        "e.g. 2 6 (choosing settings without the test split)")  # fmt: skip
     add_out_dir_argument(parser)
     args = parser.parse_args()
     if args.seeds < 2:
@@ -259,12 +259,11 @@ def main() -> None:
     data = args.data or recording_root()
     label = f"real {args.scene}"
     scored = "test"
-    if args.validation_sequences:
-        held_out = [int(n) for n in args.validation_sequences.split(",")]
+    if args.validation:
         try:
-            data = validation_root(data, args.scene, held_out, args.work / "validation-root")
+            data = validation_root(data, args.scene, args.validation, args.work / "validation-root")
         except DataError as error:
-            parser.error(f"--validation-sequences {args.validation_sequences}: {error}")
+            parser.error(f"--validation {' '.join(map(str, args.validation))}: {error}")
         label, scored = f"real {args.scene} validation", "validation"
     rows = dataset_rows(label, data, args.scene, args.seeds, variants,
                         args.work)  # fmt: skip

@@ -29,15 +29,23 @@ import tarfile
 from pathlib import Path
 
 from blurloc.data import DataError
-from blurloc.data.real import read_manifest, verify
+from blurloc.data.real import (
+    POSED_SCENE,
+    RECORDING_SCENE,
+    SKIMAGE_PREFIX,
+    posed_root,
+    read_manifest,
+    recording_root,
+    verify,
+)
 from blurloc.data.tum import convert_tum
 
 HERE = Path(__file__).resolve().parent
-#: The recording the posed frames and the recording part come from, and how they were written.
-RECORDING_REPOSITORY = "jmstark/gpu_odometry"
+#: How the posed frames and the recording were written from the recording's ``data/`` folder
+#: (the README's commands): the first posed frame's stamp, frames per posed sequence, and the
+#: recording's width.
 POSED_START_STAMP = "1305031230.865523"
 POSED_FRAMES = 40
-RECORDING_SCENE = "fr1_rpy"
 RECORDING_WIDTH = 160
 
 
@@ -88,12 +96,8 @@ def main() -> None:
     args = parser.parse_args()
     args.work.mkdir(parents=True, exist_ok=True)
     entries = read_manifest()
-    recording_commit = ""
     for entry in entries:
-        if entry.part in ("posed", "recording"):
-            recording_commit = entry.commit or recording_commit
-            continue
-        if entry.file.startswith("skimage:"):
+        if entry.part in ("posed", "recording") or entry.file.startswith(SKIMAGE_PREFIX):
             continue
         git_dir = repository(entry.source_repository, entry.commit, args.repositories,
                              args.work)  # fmt: skip
@@ -101,13 +105,14 @@ def main() -> None:
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_bytes(git_bytes(git_dir, entry.commit, entry.source_path))
         print(f"wrote {target}", flush=True)
-    git_dir = repository(RECORDING_REPOSITORY, recording_commit, args.repositories, args.work,
-                         blobs=True)  # fmt: skip
-    source = recording_source(git_dir, recording_commit, args.work)
+    recording = next(e for e in entries if e.part == "recording" and e.commit)
+    git_dir = repository(recording.source_repository, recording.commit, args.repositories,
+                         args.work, blobs=True)  # fmt: skip
+    source = recording_source(git_dir, recording.commit, args.work)
     subprocess.run([sys.executable, str(HERE / "make_posed.py"), str(source),
-                    str(args.out / "posed" / RECORDING_SCENE), "--start", POSED_START_STAMP,
+                    str(posed_root(args.out) / POSED_SCENE), "--start", POSED_START_STAMP,
                     "--frames", str(POSED_FRAMES)], check=True)  # fmt: skip
-    convert_tum(source, args.out / "recording", RECORDING_SCENE, width=RECORDING_WIDTH,
+    convert_tum(source, recording_root(args.out), RECORDING_SCENE, width=RECORDING_WIDTH,
                 overwrite=True)  # fmt: skip
     try:
         checked = verify(args.out)
