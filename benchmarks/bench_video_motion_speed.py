@@ -1,33 +1,40 @@
-"""Time per frame of deblurring by the video's own motion, at 160x120 and 640x480, by grid and
-boundary, beside the mirror-boundary, one-kernel variant as the reference.
+"""Time per frame of deblurring by the video's own motion, at 160x120 and 640x480, panning and
+turning, by grid and boundary, beside the mirror-boundary, one-kernel variant as the reference.
 
     python benchmarks/bench_video_motion_speed.py [--frames 6] [--out-dir figures]
 
-Times :func:`blurloc.video_wiener.deblur_video_motion` on a noise-free GoPro-style video of
+Times :func:`blurloc.video_wiener.deblur_video_motion` on noise-free GoPro-style videos of
 scikit-image's ``coffee`` (:func:`~blurloc.experiments.photo_video.photo_video`, a pan of 9 px
-per frame at 160x120 and 36 px at 640x480) with a 3 x 3 grid of kernels and with one kernel per
-frame (``grid``), each with the image beyond the frame unknown (the default, 10
-conjugate-gradient steps) and with mirror boundaries (``boundary``), and reports seconds per
-frame (measurement of the motion included) and the time over the one-kernel, mirror-boundary
-run at the same size, in one process. Writes
-``<out-dir>/bench_video_motion_speed.md``/``.csv``. About 2 min on 2 cores.
+per frame at 160x120 and 36 px at 640x480; ``turning``: the same pan with the camera also
+turning about its optical axis by 0.3 degrees per sub-frame) with a 3 x 3 grid of kernels
+(``grid``; as shipped, a frame whose kernels agree restored once with one of them,
+``agreement``: ``AGREEMENT_L1``; ``off``: every frame by its grid) and with one kernel per
+frame, each with the image beyond the frame unknown (the default, 10 conjugate-gradient steps)
+and with mirror boundaries (``boundary``), and reports seconds per frame (measurement of the
+motion included) and the time over the one-kernel, mirror-boundary run of the same video, in
+one process. Writes ``<out-dir>/bench_video_motion_speed.md``/``.csv``. About 3 min on 2 cores.
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
 import time
 
 import skimage.data
 
 from blurloc.experiments.photo_video import photo_video
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
-from blurloc.video_wiener import deblur_video_motion
+from blurloc.video_wiener import AGREEMENT_L1, deblur_video_motion
 
 #: (width, height) of the frames timed, and the pan per sub-frame (px) at each.
 SIZES = (((160, 120), 1.0), ((640, 480), 4.0))
-VARIANTS = ((3, "unknown"), (3, "mirror"), (1, "unknown"), (1, "mirror"))
-REFERENCE = (1, "mirror")
+#: (label, the camera's turn about its optical axis per sub-frame in degrees).
+MOTIONS = (("pan", 0.0), ("turning", 0.3))
+#: (grid, boundary, agreement tolerance) timed.
+VARIANTS = ((3, "unknown", AGREEMENT_L1), (3, "unknown", None), (3, "mirror", AGREEMENT_L1),
+            (1, "unknown", None), (1, "mirror", None))  # fmt: skip
+REFERENCE = (1, "mirror", None)
 
 
 def main() -> None:
@@ -37,23 +44,27 @@ def main() -> None:
     add_out_dir_argument(parser)
     args = parser.parse_args()
     rows = []
-    for size, step in SIZES:
+    for (size, step), (motion, roll) in itertools.product(SIZES, MOTIONS):
         blurred, _ = photo_video(skimage.data.coffee(), frames=args.frames, step_px=step,
-                                 angle_deg=20.0, size=size, noise_sigma=0.0, seed=1)  # fmt: skip
+                                 angle_deg=20.0, size=size, noise_sigma=0.0, seed=1,
+                                 roll_deg=roll)  # fmt: skip
         seconds = {}
-        for grid, boundary in VARIANTS:
+        for grid, boundary, agreement in VARIANTS:
             start = time.perf_counter()
-            deblur_video_motion(blurred, grid=grid, boundary=boundary)
-            seconds[grid, boundary] = (time.perf_counter() - start) / len(blurred)
-        for (grid, boundary), value in seconds.items():
-            rows.append({"size": f"{size[0]}x{size[1]}", "grid": grid, "boundary": boundary,
+            deblur_video_motion(blurred, grid=grid, boundary=boundary, agreement_l1=agreement)
+            seconds[grid, boundary, agreement] = (time.perf_counter() - start) / len(blurred)
+        for (grid, boundary, agreement), value in seconds.items():
+            rows.append({"size": f"{size[0]}x{size[1]}", "motion": motion, "grid": grid,
+                         "boundary": boundary,
+                         "agreement": "off" if agreement is None else agreement,
                          "seconds_per_frame": round(value, 3),
                          "frames_per_second": round(1.0 / value, 2),
                          "times_reference": round(value / seconds[REFERENCE], 1)})  # fmt: skip
             print(rows[-1], flush=True)
     notes = (f"{args.frames} frames per video; seconds per frame include measuring the motion "
-             "between frames; times_reference: over grid 1 with mirror boundaries at the same "
-             "size.")  # fmt: skip
+             "between frames; agreement: the largest disagreement of a frame's grid kernels at "
+             "which it is restored with one kernel (off: by its grid); times_reference: over "
+             "grid 1 with mirror boundaries on the same video.")  # fmt: skip
     saved = save_benchmark_tables("bench_video_motion_speed", {"speed": rows}, args.out_dir,
                                   notes=notes)  # fmt: skip
     print(f"tables: {saved}")

@@ -25,7 +25,13 @@ from blurloc.deconv import wiener_deconvolve
 from blurloc.experiments.photo_video import photo_video, photo_video_motion
 from blurloc.images import linear_to_srgb, srgb_to_linear
 from blurloc.metrics import mean_frame_psnr
-from blurloc.video_wiener import deblur_by_kernels, deblur_by_local_kernels, deblur_video_motion
+from blurloc.video_wiener import (
+    AGREEMENT_L1,
+    deblur_by_kernels,
+    deblur_by_local_kernels,
+    deblur_video_motion,
+    kernel_disagreement,
+)
 
 
 def _panned(step: tuple[float, float], frames: int = 5) -> np.ndarray:
@@ -409,22 +415,25 @@ def test_local_kernels_where_the_image_moves_differently_across_the_frame() -> N
 
 
 def test_local_kernels_that_agree_restore_as_one_kernel_does() -> None:
-    """Blending the same kernel at every grid point gives one kernel's restoration (the blend's
-    weights sum to 1): up to the last rounding with mirror boundaries, which restore the whole
-    frame per point; with unknown boundaries, where each point restores its own tile, up to the
-    unfinished conjugate-gradient solve (to within 3 grey levels after 40 steps, where tiles
-    and frame solve the same problem); counts that do not match are refused."""
+    """Blending the same kernel at every grid point (the grid kept, ``agreement_l1=None``) gives
+    one kernel's restoration (the blend's weights sum to 1): up to the last rounding with mirror
+    boundaries, which restore the whole frame per point; with unknown boundaries, where each
+    point restores its own tile, up to the unfinished conjugate-gradient solve (to within 3 grey
+    levels after 40 steps, where tiles and frame solve the same problem); counts that do not
+    match are refused."""
     blurred, _ = photo_video(skimage.data.coffee(), frames=3, step_px=1.0, angle_deg=20.0,
                              noise_sigma=0.0, seed=1)  # fmt: skip
     motion = video_motion_kernels(blurred)
     nine = np.repeat(motion.lengths_px[:, None], 9, axis=1)
     same = [[kernel] * 9 for kernel in motion.kernels]
     single = deblur_by_kernels(blurred, motion.kernels, motion.lengths_px, boundary="mirror")
-    blended = deblur_by_local_kernels(blurred, same, nine, 3, boundary="mirror")
+    blended = deblur_by_local_kernels(blurred, same, nine, 3, boundary="mirror",
+                                      agreement_l1=None)  # fmt: skip
     assert np.abs(blended.astype(int) - single).max() <= 1
     for steps, largest, mean in ((10, 10, 0.3), (40, 3, 0.1)):
         single = deblur_by_kernels(blurred, motion.kernels, motion.lengths_px, iterations=steps)
-        blended = deblur_by_local_kernels(blurred, same, nine, 3, iterations=steps)
+        blended = deblur_by_local_kernels(blurred, same, nine, 3, iterations=steps,
+                                          agreement_l1=None)  # fmt: skip
         difference = np.abs(blended.astype(int) - single)
         assert difference.max() <= largest and difference.mean() < mean
     # only the top-left point's kernel deblurs: the frame changes where that point's weight
@@ -432,9 +441,51 @@ def test_local_kernels_that_agree_restore_as_one_kernel_does() -> None:
     lengths = np.zeros((3, 9))
     lengths[:, 0] = motion.lengths_px
     top_left = deblur_by_local_kernels(blurred, [[kernel] * 9 for kernel in motion.kernels],
-                                       lengths, 3)  # fmt: skip
+                                       lengths, 3, agreement_l1=None)  # fmt: skip
     changed = np.any(top_left != blurred, axis=(0, 3))
     assert changed[:10, :10].all() and not changed[60:, :].any() and not changed[:, 80:].any()
     with pytest.raises(ValueError, match="grid point"):
         deblur_by_local_kernels(blurred, [[kernel] * 4 for kernel in motion.kernels],
                                 np.repeat(motion.lengths_px[:, None], 4, axis=1), 3)  # fmt: skip
+
+
+def test_the_kernel_disagreement_of_a_grid() -> None:
+    """0 for equal kernels (also of different sizes, centred alike), 2 for kernels that share no
+    pixel, in between for a line against a longer one; what is not a kernel is refused."""
+    delta = np.ones((1, 1))
+    line = trajectory_kernel(np.array([[-2.0, 0.0], [2.0, 0.0]]), origin=np.zeros(2))
+    longer = trajectory_kernel(np.array([[-3.0, 0.0], [3.0, 0.0]]), origin=np.zeros(2))
+    assert kernel_disagreement([delta, np.pad(delta, 2)]) == 0.0
+    assert kernel_disagreement([line]) == 0.0
+    assert kernel_disagreement([delta, np.roll(np.pad(delta, 1), 1, axis=1)]) == pytest.approx(2)
+    assert 0.1 < kernel_disagreement([line, longer, line]) < 1.0
+    with pytest.raises(ValueError, match="odd sides"):
+        kernel_disagreement([np.ones((2, 2)) / 4])
+    with pytest.raises(ValueError, match="odd sides"):
+        kernel_disagreement([])
+
+
+def test_a_frame_whose_kernels_agree_is_restored_once_with_the_middle_kernel() -> None:
+    """Within ``agreement_l1`` a frame takes the middle point's kernel over the whole frame, as
+    one kernel per frame does (exactly); beyond it the frame keeps its grid; a turning camera's
+    kernels disagree beyond the default; a negative tolerance is refused."""
+    blurred, _ = photo_video(skimage.data.coffee(), frames=3, step_px=1.0, angle_deg=20.0,
+                             noise_sigma=0.0, seed=1)  # fmt: skip
+    motion = video_motion_kernels(blurred)
+    nine = np.repeat(motion.lengths_px[:, None], 9, axis=1)
+    others = [trajectory_kernel(np.array([[0.0, -4.0], [0.0, 4.0]]), origin=np.zeros(2))] * 4
+    mixed = [[*others, kernel, *others] for kernel in motion.kernels]  # the middle one differs
+    single = deblur_by_kernels(blurred, motion.kernels, motion.lengths_px)
+    np.testing.assert_array_equal(deblur_by_local_kernels(blurred, mixed, nine, 3,
+                                                          agreement_l1=2.0), single)  # fmt: skip
+    kept = deblur_by_local_kernels(blurred, mixed, nine, 3, agreement_l1=0.3)
+    np.testing.assert_array_equal(
+        kept, deblur_by_local_kernels(blurred, mixed, nine, 3, agreement_l1=None)
+    )
+    assert np.abs(kept.astype(int) - single).max() > 10
+    turning, _ = photo_video(skimage.data.astronaut(), frames=4, step_px=1.0, noise_sigma=0.0,
+                             seed=0, roll_deg=0.3)  # fmt: skip
+    assert min(kernel_disagreement(kernels) for kernels in
+               local_motion_kernels(turning).kernels) > AGREEMENT_L1  # fmt: skip
+    with pytest.raises(ValueError, match="agreement_l1"):
+        deblur_video_motion(blurred, agreement_l1=-0.1)

@@ -7,8 +7,9 @@ that path's kernel by Wiener's filter with the gradient regulariser, its weight 
 frame's noise, the image beyond the frame solved for as unknown
 (:func:`blurloc.deconv.wiener_deconvolve`); where the image moves differently in different
 parts of the frame (a turn about the optical axis, a move along it), with the kernels of a grid
-of points, each restoring its own part of the frame, blended. A frame whose path is under
-MIN_PATH_PX, or whose kernel is larger than the frame, is passed through.
+of points, each restoring its own part of the frame, blended; a frame whose grid kernels agree
+(a pan) is restored once, whole, with one of them. A frame whose path is under MIN_PATH_PX, or
+whose kernel is larger than the frame, is passed through.
 """
 
 from __future__ import annotations
@@ -36,6 +37,13 @@ MIN_PATH_PX = 1.0
 #: With unknown boundaries, each grid point's kernel restores only the part of the frame its
 #: blend weight covers, widened by the kernel's size and this margin (px) on every side.
 TILE_MARGIN_PX = 8
+#: A frame whose grid kernels all lie within this L1 distance of one another
+#: (:func:`kernel_disagreement`: 0 for equal kernels, 2 for kernels that share no pixel) is
+#: deconvolved once, whole, with the kernel of the grid's middle point: a pan blurs the frame
+#: alike everywhere, and one restoration takes a fraction of the grid's tiles' time. Chosen on
+#: GoPro-style videos of the photographs that the test videos do not show, panning, turning and
+#: moving forward (``benchmarks/choose_kernel_agreement.py``).
+AGREEMENT_L1 = 0.5
 
 
 def deblur_video_motion(
@@ -45,6 +53,7 @@ def deblur_video_motion(
     grid: int = LOCAL_GRID,
     boundary: str = BOUNDARY,
     weight_per_noise: float = WEIGHT_PER_NOISE,
+    agreement_l1: float | None = AGREEMENT_L1,
 ) -> np.ndarray:
     r"""Deblur a video frame by frame with kernels from its own motion.
 
@@ -58,7 +67,9 @@ def deblur_video_motion(
     frame's centre), :math:`w_j` bilinear weights that are 1 at point j and fall
     to 0 at its neighbours (:func:`deblur_by_local_kernels`), and :math:`\lambda_t` = the larger
     of ``weight_per_noise`` :math:`\hat\sigma_t` (the frame's noise by Immerkær's estimate,
-    :func:`~blurloc.blur.estimate_noise_sigma`) and ``min_weight``. The formula is the mirror
+    :func:`~blurloc.blur.estimate_noise_sigma`) and ``min_weight``. A frame whose kernels agree
+    within ``agreement_l1`` takes one kernel, :math:`w_j = 1` for the grid's middle point
+    (:func:`deblur_by_local_kernels`). The formula is the mirror
     boundary's; with ``boundary="unknown"`` (the default) each term is the least-squares image
     of :func:`~blurloc.deconv.wiener_deconvolve` whose part beyond the frame (or beyond the
     point's tile, :func:`deblur_by_local_kernels`) is unknown.
@@ -80,6 +91,9 @@ def deblur_video_motion(
         ``"unknown"`` or ``"mirror"`` (:func:`~blurloc.deconv.wiener_deconvolve`).
     weight_per_noise : float
         The regulariser's weight per unit of estimated noise, > 0.
+    agreement_l1 : float or None
+        Largest :func:`kernel_disagreement` of a frame's grid kernels at which the frame is
+        restored with one kernel (>= 0; default AGREEMENT_L1; None: every frame by its grid).
 
     Returns
     -------
@@ -90,18 +104,18 @@ def deblur_video_motion(
     ------
     ValueError
         If ``frames`` is not a (T, H, W, 3) uint8 video of at least two frames,
-        ``exposure_share``, ``min_weight`` or ``weight_per_noise`` is not positive, ``grid`` < 1
-        or ``boundary`` is unknown.
+        ``exposure_share``, ``min_weight`` or ``weight_per_noise`` is not positive, ``grid`` < 1,
+        ``boundary`` is unknown or ``agreement_l1`` is negative.
     """
     frames = np.asarray(frames)
     if frames.ndim != 4 or frames.shape[-1] != 3 or frames.dtype != np.uint8 or len(frames) < 2:
         raise ValueError(f"frames must be a (T, H, W, 3) uint8 video with T >= 2, got "
                          f"{frames.shape} {frames.dtype}")  # fmt: skip
-    _check_settings(min_weight, boundary, weight_per_noise)
+    _check_settings(min_weight, boundary, weight_per_noise, agreement_l1)
     motion = local_motion_kernels(frames, exposure_share, grid)
     return deblur_by_local_kernels(frames, motion.kernels, motion.lengths_px, motion.grid,
-                                   min_weight, boundary,
-                                   weight_per_noise=weight_per_noise)  # fmt: skip
+                                   min_weight, boundary, weight_per_noise=weight_per_noise,
+                                   agreement_l1=agreement_l1)  # fmt: skip
 
 
 def deblur_by_kernels(
@@ -164,6 +178,7 @@ def deblur_by_local_kernels(
     boundary: str = BOUNDARY,
     iterations: int = BOUNDARY_ITERATIONS,
     weight_per_noise: float = WEIGHT_PER_NOISE,
+    agreement_l1: float | None = AGREEMENT_L1,
 ) -> np.ndarray:
     r"""Deconvolve each frame by the kernels of a grid of points, blended.
 
@@ -178,7 +193,10 @@ def deblur_by_local_kernels(
     and TILE_MARGIN_PX; beyond the tile the image is unknown, as beyond the frame, so the tile's
     restoration solves the frame's problem there (the same at convergence but for the margin's
     reach; on a 3 x 3 grid a quarter to under half of the frame per point, before the margin).
-    A point whose path is under MIN_PATH_PX, or whose kernel is larger than the frame,
+    A frame whose kernels all lie within ``agreement_l1`` of one another
+    (:func:`kernel_disagreement`) is restored as with one point, by the kernel of the middle
+    point (index P // 2 of the P points: the centre on an odd grid) over the whole frame. A
+    point whose path is under MIN_PATH_PX, or whose kernel is larger than the frame,
     contributes the frame as it is; a frame where every point's does is passed through.
 
     Parameters
@@ -201,6 +219,9 @@ def deblur_by_local_kernels(
         (:func:`~blurloc.deconv.wiener_deconvolve`).
     weight_per_noise : float
         The regulariser's weight per unit of estimated noise (:func:`deblur_video_motion`), > 0.
+    agreement_l1 : float or None
+        Largest disagreement of a frame's kernels at which it takes one kernel (>= 0; default
+        AGREEMENT_L1; None: every frame by its grid).
 
     Returns
     -------
@@ -212,8 +233,8 @@ def deblur_by_local_kernels(
     ValueError
         If the counts of frames, kernel lists and lengths differ, a frame's kernels or lengths
         are not ``grid`` squared, ``grid`` < 1, ``min_weight`` or ``weight_per_noise`` is not
-        positive, ``boundary`` is unknown or (once a frame is restored) ``iterations`` is
-        negative.
+        positive, ``boundary`` is unknown, ``agreement_l1`` is negative or (once a frame is
+        restored) ``iterations`` is negative.
     """
     frames = np.asarray(frames)
     lengths_px = np.asarray(lengths_px, float)
@@ -226,33 +247,80 @@ def deblur_by_local_kernels(
         raise ValueError(f"one kernel and one length per frame and grid point: {len(frames)} "
                          f"frames, {len(kernels)} kernel lists, lengths {lengths_px.shape}, "
                          f"grid {grid}")  # fmt: skip
-    _check_settings(min_weight, boundary, weight_per_noise)
+    _check_settings(min_weight, boundary, weight_per_noise, agreement_l1)
     restored = np.array(frames, copy=True)
-    weights = _blend_weights(frames.shape[1], frames.shape[2], grid)
-    covers = [_covered(weight) for weight in weights]
+    height, width = frames.shape[1:3]
+    blends = {}  # points per side: the blend weights and the part of the frame each covers
+    for points in {grid, 1}:
+        blend_weights = _blend_weights(height, width, points)
+        blends[points] = blend_weights, [_covered(weight) for weight in blend_weights]
     for index, frame in enumerate(frames):
+        frame_kernels, frame_lengths = kernels[index], lengths_px[index]
+        frame_weights, covers = blends[grid]
+        if (grid > 1 and agreement_l1 is not None
+                and kernel_disagreement(frame_kernels) <= agreement_l1):  # fmt: skip
+            middle = len(frame_kernels) // 2
+            frame_kernels, frame_lengths = [frame_kernels[middle]], frame_lengths[middle:][:1]
+            frame_weights, covers = blends[1]
         usable = [
             length >= MIN_PATH_PX
             and all(kernel.shape[axis] <= frame.shape[axis] for axis in (0, 1))
-            for kernel, length in zip(kernels[index], lengths_px[index], strict=True)
+            for kernel, length in zip(frame_kernels, frame_lengths, strict=True)
         ]
         if not any(usable):
             continue  # no blur to undo, or paths that leave the frame
         weight = max(weight_per_noise * estimate_noise_sigma(frame), min_weight)
         image = as_float_image(frame)
         blend = np.zeros_like(image)
-        for point, kernel in enumerate(kernels[index]):
+        for point, kernel in enumerate(frame_kernels):
             if not usable[point]:
-                blend += weights[point][..., None] * image
+                blend += frame_weights[point][..., None] * image
                 continue
             tile = np.s_[:, :]
             if boundary == "unknown":
                 tile = _widened(covers[point], max(kernel.shape) + TILE_MARGIN_PX, frame.shape)
             sharp = wiener_deconvolve(image[tile], kernel, weight, "gradient", boundary,
                                       iterations)  # fmt: skip
-            blend[tile] += weights[point][tile][..., None] * sharp
+            blend[tile] += frame_weights[point][tile][..., None] * sharp
         restored[index] = like_input(blend, frame)
     return restored
+
+
+def kernel_disagreement(kernels: list[np.ndarray]) -> float:
+    r"""How far the kernels of one frame's grid points differ: the largest L1 distance of two.
+
+    .. math::
+
+        d = \max_{j, k} \sum_x |c_j(x) - c_k(x)|
+
+    with the kernels centred on one another (each is centred on the frame's sharp instant):
+    0 for equal kernels, 2 for kernels (each summing to 1) that share no pixel. A pan moves the
+    image alike at every point; a turn about the optical axis or a move along it does not.
+
+    Parameters
+    ----------
+    kernels : list of numpy.ndarray
+        2-D kernels with odd sides, each summing to 1.
+
+    Returns
+    -------
+    float
+        The largest pairwise L1 distance (0 for one kernel).
+
+    Raises
+    ------
+    ValueError
+        If no kernel is given or a kernel is not 2-D with odd sides.
+    """
+    shapes = [np.shape(kernel) for kernel in kernels]
+    if not kernels or any(len(shape) != 2 or shape[0] % 2 == 0 or shape[1] % 2 == 0
+                          for shape in shapes):  # fmt: skip
+        raise ValueError(f"kernels must be 2-D with odd sides, got shapes {shapes}")
+    size = np.max(shapes, axis=0)
+    flat = np.stack([np.pad(kernel, [((side - own) // 2,) * 2 for side, own in
+                                     zip(size, np.shape(kernel), strict=True)]).ravel()
+                     for kernel in kernels])  # fmt: skip
+    return float(np.abs(flat[:, None, :] - flat[None, :, :]).sum(axis=2).max())
 
 
 def _covered(weight: np.ndarray) -> tuple[slice, slice]:
@@ -267,12 +335,16 @@ def _widened(cover: tuple[slice, slice], margin: int, shape: tuple[int, ...]) ->
                  for part, size in zip(cover, shape[:2], strict=True))  # fmt: skip
 
 
-def _check_settings(min_weight: float, boundary: str, weight_per_noise: float) -> None:
-    """Refuse a weight floor or weight per noise that is not positive or an unknown boundary,
-    naming it."""
+def _check_settings(
+    min_weight: float, boundary: str, weight_per_noise: float, agreement_l1: float | None = None
+) -> None:
+    """Refuse a weight floor or weight per noise that is not positive, an unknown boundary or
+    a negative agreement tolerance, naming it."""
     for name, value in (("min_weight", min_weight), ("weight_per_noise", weight_per_noise)):
         if not value > 0:
             raise ValueError(f"{name} must be > 0, got {value}")
+    if agreement_l1 is not None and not agreement_l1 >= 0:
+        raise ValueError(f"agreement_l1 must be >= 0 or None, got {agreement_l1}")
     check_boundary(boundary)
 
 

@@ -268,6 +268,8 @@ def photo_training_videos(
     seed: int = 0,
     photos: tuple[str, ...] = PHOTO_TRAINING_PHOTOS,
     noise_sigma: float = 0.01,
+    roll_deg: float = 0.0,
+    zoom: float = 0.0,
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """Blurred videos with their sharp frames, made the GoPro way (:func:`photo_video`) from
     photographs, for training a video deblurrer on natural image content.
@@ -295,6 +297,9 @@ def photo_training_videos(
     noise_sigma : float
         Sensor noise of the blurred frames (:func:`photo_video`; 0: none, as the noise-free
         videos the network must deblur without denoising).
+    roll_deg, zoom : float
+        The camera's turn about its optical axis and magnification per sub-frame
+        (:func:`photo_video`; default none: pans only).
 
     Returns
     -------
@@ -310,7 +315,7 @@ def photo_training_videos(
     if frames < 1:
         raise ValueError(f"frames must be positive, got {frames}")
     return [photo_video(photo, frames, step_px=step, angle_deg=angle, noise_sigma=noise_sigma,
-                        seed=noise_seed)
+                        seed=noise_seed, roll_deg=roll_deg, zoom=zoom)
             for photo, step, angle, noise_seed in _training_pans(count, seed, photos)]  # fmt: skip
 
 
