@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import os
 import re
 import shutil
 
@@ -12,8 +13,10 @@ import pytest
 
 from blurloc.data import load_split
 from blurloc.data.real import (
+    PARTS,
     POSED_SCENE,
     RECORDING_SCENE,
+    ROOT_VARIABLE,
     SKIMAGE_PREFIX,
     DataError,
     data_root,
@@ -28,6 +31,7 @@ from blurloc.data.real import (
     posed_root,
     read_manifest,
     recording_root,
+    sha256_of,
     tum_files,
     verify,
 )
@@ -43,9 +47,19 @@ from blurloc.experiments.real_frames import (
 
 ENTRIES = read_manifest()
 FILES_PRESENT = all(entry_path(e).is_file() for e in ENTRIES)
-needs_files = pytest.mark.skipif(
-    not FILES_PRESENT, reason=f"the development set's files are not under {data_root()}"
-)
+#: Files of samples/real that the repository holds beside the data.
+SCRIPTS = {"MANIFEST.csv", "README.md", "make_posed.py", "fetch.py"}
+
+
+def needs(*parts: str) -> pytest.MarkDecorator:
+    """Skip unless every file of ``parts`` (all parts when none is given) is where the reader
+    looks: the posed 640x480 frames are fetched (``samples/real/fetch.py``), not committed."""
+    return pytest.mark.skipif(not files_present(*parts),
+                              reason=f"the development set's {' and '.join(parts) or 'files'} "
+                                     "are not present")  # fmt: skip
+
+
+needs_files = needs()
 
 
 def test_manifest_lists_every_part_with_source_licence_and_commit():
@@ -59,19 +73,33 @@ def test_manifest_lists_every_part_with_source_licence_and_commit():
 
 @needs_files
 def test_every_staged_file_is_in_the_manifest():
-    root = data_root()
+    """Every file under the parts' data roots (the repository's samples/real for the committed
+    parts, wherever the fetched ones were placed) is listed, and every listed file is there."""
     listed = {e.file for e in ENTRIES if not e.file.startswith(SKIMAGE_PREFIX)}
     on_disk = {
         p.relative_to(root).as_posix()
+        for root in {data_root(part) for part in PARTS}
         for p in root.rglob("*")
-        if p.is_file() and p.name not in {"MANIFEST.csv", "README.md", "make_posed.py"}
+        if p.is_file() and p.name not in SCRIPTS and "__pycache__" not in p.parts
     }
     assert on_disk == listed
 
 
-@needs_files
-def test_checksums_match_the_manifest():
-    assert len(verify()) == len(ENTRIES)
+@pytest.mark.parametrize("part", PARTS)
+def test_checksums_match_the_manifest(part):
+    if not files_present(part):
+        pytest.skip(f"the development set's {part} files are not present")
+    for entry in part_entries(part):
+        assert sha256_of(entry_path(entry)) == entry.sha256, entry.file
+
+
+def test_the_committed_parts_are_read_from_the_repository():
+    """Every part but the posed frames is committed: a fresh clone reads it from samples/real
+    (unless BLURLOC_REAL_DATA names another folder)."""
+    if os.environ.get(ROOT_VARIABLE):
+        pytest.skip(f"{ROOT_VARIABLE} names the data root")
+    for part in ("blurred", "pairs", "tum", "recording"):
+        assert files_present(part) and data_root(part) == manifest_path().parent, part
 
 
 def test_scikit_image_photographs_match_their_checksums(tmp_path):
@@ -118,7 +146,7 @@ def test_sharp_photographs_are_rgb_images():
         assert min(image.shape[:2]) >= 64, name  # the blur analysis needs 64 px
 
 
-@needs_files
+@needs("posed")
 def test_posed_frames_have_the_stated_size_and_rigid_poses():
     root = posed_root()
     frames = [s for split in ("train", "test") for s in load_split(root, POSED_SCENE, split)]
@@ -135,7 +163,7 @@ def test_posed_frames_have_the_stated_size_and_rigid_poses():
     assert camera[0, 0] == pytest.approx(517.3) and camera[1, 2] == pytest.approx(255.3)
 
 
-@needs_files
+@needs("recording")
 def test_the_recording_holds_every_frame_with_interleaved_test_sequences():
     train = load_split(recording_root(), RECORDING_SCENE, "train")
     test = load_split(recording_root(), RECORDING_SCENE, "test")
@@ -145,6 +173,10 @@ def test_the_recording_holds_every_frame_with_interleaved_test_sequences():
     poses = np.concatenate([s.poses() for s in sorted(train + test, key=lambda s: s.folder)])
     steps = np.linalg.norm(np.diff(poses[:, :3, 3], axis=0), axis=1)
     assert steps.max() < 0.05  # one recording, consecutive across the sequence borders
+
+
+@needs("recording", "posed")
+def test_the_recording_and_the_posed_frames_give_a_frame_one_pose():
     posed = load_split(posed_root(), POSED_SCENE, "train")[0]
     first = posed_frame_table()[0]["stamp"]
     row = next(r for r in csv.DictReader((recording_root() / RECORDING_SCENE / "frames.csv").open())
@@ -154,7 +186,7 @@ def test_the_recording_holds_every_frame_with_interleaved_test_sequences():
     assert np.allclose(same, posed.poses()[0], atol=1e-8)  # the same frame, the same pose
 
 
-@needs_files
+@needs("pairs")
 def test_pairs_are_aligned():
     pairs = load_pairs()
     assert pairs
@@ -174,7 +206,7 @@ def test_pairs_are_aligned():
         assert abs(dy) <= 1 and abs(dx) <= 1, name  # the blur is centred on the sharp frame
 
 
-@needs_files
+@needs("tum")
 def test_tum_files_hold_unit_quaternions():
     for path in tum_files():
         table = np.loadtxt(path, comments="#")
@@ -188,7 +220,7 @@ def test_files_present_answers_per_part(tmp_path):
     assert files_present() == FILES_PRESENT
 
 
-@needs_files
+@needs("posed", "blurred")
 def test_real_stages_measure_the_real_files():
     images, motion = posed_frames_with_motion(step=10)
     assert images.shape[1:] == (480, 640, 3) and len(images) == len(motion) == 8

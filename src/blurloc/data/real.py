@@ -2,8 +2,8 @@
 
 The manifest lists every file with its part (``sharp``, ``blurred``, ``pairs``, ``posed``,
 ``tum``, ``recording``), source repository, commit, path in the source, licence and sha256.
-Files named ``skimage:<name>`` are read from the installed scikit-image; the others from the
-data root (:func:`data_root`). Every problem is reported as a
+Files named ``skimage:<name>`` are read from the installed scikit-image; the others from their
+part's data root (:func:`data_root`). Every problem is reported as a
 :class:`~blurloc.data.sevenscenes.DataError` naming the file.
 """
 
@@ -95,28 +95,46 @@ def read_manifest(path: str | os.PathLike | None = None) -> list[ManifestEntry]:
     return entries
 
 
-def data_root() -> Path:
-    """Folder holding the development set's files.
+def data_root(part: str | None = None) -> Path:
+    """Folder holding the development set's files, or those of one part.
 
     The folder named by the environment variable ``BLURLOC_REAL_DATA`` when it is set, else the
     first of ``samples/real`` and ``../shared/real`` (beside the repository) that holds the
-    manifest's first file outside scikit-image; ``samples/real`` when neither does.
+    first file outside scikit-image of ``part`` (of the whole manifest when None): the parts
+    committed with the repository are read from ``samples/real``, the others from wherever
+    they were placed; ``samples/real`` when neither folder holds it.
+
+    Parameters
+    ----------
+    part : str, optional
+        A part of the manifest (``PARTS``).
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    ValueError
+        If ``part`` is not one of PARTS.
     """
     if os.environ.get(ROOT_VARIABLE):
         return Path(os.environ[ROOT_VARIABLE])
     local = manifest_path().parent
-    first = next(e.file for e in read_manifest() if not e.file.startswith(SKIMAGE_PREFIX))
+    entries = read_manifest() if part is None else part_entries(part)
+    files = [e.file for e in entries if not e.file.startswith(SKIMAGE_PREFIX)]
     for candidate in (local, local.parents[2] / "shared" / "real"):
-        if (candidate / first).is_file():
+        if files and (candidate / files[0]).is_file():
             return candidate
     return local
 
 
 def entry_path(entry: ManifestEntry, root: str | os.PathLike | None = None) -> Path:
-    """Where a manifest file lies: in scikit-image's data folder, or under ``root``."""
+    """Where a manifest file lies: in scikit-image's data folder, or under ``root`` (default
+    its part's :func:`data_root`)."""
     if entry.file.startswith(SKIMAGE_PREFIX):
         return Path(skimage.__file__).parent / "data" / entry.file.removeprefix(SKIMAGE_PREFIX)
-    return Path(root if root is not None else data_root()) / entry.file
+    return Path(root if root is not None else data_root(entry.part)) / entry.file
 
 
 def sha256_of(path: str | os.PathLike) -> str:
@@ -242,7 +260,7 @@ def load_pairs(root: str | os.PathLike | None = None) -> list[tuple[str, np.ndar
 def posed_root(root: str | os.PathLike | None = None) -> Path:
     """The 7-Scenes-layout root of the posed frames (scene ``fr1_rpy``), for
     :func:`~blurloc.data.sevenscenes.load_split`."""
-    return Path(root if root is not None else data_root()) / "posed"
+    return Path(root if root is not None else data_root("posed")) / "posed"
 
 
 def recording_root(root: str | os.PathLike | None = None) -> Path:
@@ -250,7 +268,7 @@ def recording_root(root: str | os.PathLike | None = None) -> Path:
     TUM RGB-D ``freiburg1_rpy`` at 160x120, cut into 10 sequences, every 4th held out as the
     test split; written by :func:`blurloc.data.tum.convert_tum`), for
     :func:`~blurloc.data.sevenscenes.load_split`."""
-    return Path(root if root is not None else data_root()) / "recording"
+    return Path(root if root is not None else data_root("recording")) / "recording"
 
 
 def posed_camera(root: str | os.PathLike | None = None) -> np.ndarray:
