@@ -54,9 +54,8 @@ SCRIPTS = {"MANIFEST.csv", "README.md", "make_posed.py", "fetch.py"}
 def needs(*parts: str) -> pytest.MarkDecorator:
     """Skip unless every file of ``parts`` (all parts when none is given) is where the reader
     looks: the posed 640x480 frames are fetched (``samples/real/fetch.py``), not committed."""
-    return pytest.mark.skipif(not files_present(*parts),
-                              reason=f"the development set's {' and '.join(parts) or 'files'} "
-                                     "are not present")  # fmt: skip
+    which = " ".join(["the development set's", " and ".join(parts), "files"]).replace("  ", " ")
+    return pytest.mark.skipif(not files_present(*parts), reason=f"{which} are not present")
 
 
 needs_files = needs()
