@@ -8,11 +8,11 @@ scikit-image's ``coffee`` (:func:`~blurloc.experiments.photo_video.photo_video`,
 per frame at 160x120 and 36 px at 640x480; ``turning``: the same pan with the camera also
 turning about its optical axis by 0.3 degrees per sub-frame) with a 3 x 3 grid of kernels
 (``grid``; as shipped, a frame whose kernels agree restored once with one of them,
-``agreement``: ``AGREEMENT_L1``; ``off``: every frame by its grid) and with one kernel per
-frame, each with the image beyond the frame unknown (the default, 10 conjugate-gradient steps)
-and with mirror boundaries (``boundary``), and reports seconds per frame (measurement of the
-motion included, after one untimed call on two frames) and the time over the one-kernel,
-mirror-boundary run of the same video, in one process. Writes
+``agreement``: ``AGREEMENT_L1``, with the image beyond the frame unknown, the default with 10
+conjugate-gradient steps, and with mirror boundaries, ``boundary``; ``off``: every frame by its
+grid, unknown boundaries only) and with one kernel per frame (both boundaries), and reports
+seconds per frame (measurement of the motion included, after one untimed call on two frames)
+and the time over the one-kernel, mirror-boundary run of the same video, in one process. Writes
 ``<out-dir>/bench_video_motion_speed.md``/``.csv``. About 5 min on 2 cores.
 """
 

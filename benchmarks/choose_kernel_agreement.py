@@ -17,7 +17,7 @@ the mean gain over videos (PSNR of the restored video minus the blurred one's, e
 worst video, the share of frames restored with one kernel, the restoration's seconds per frame
 and the mean change of gain against the grid. Chosen: the largest candidate whose mean gain on
 every set is at most MAX_LOSS_DB below the grid's (the package's AGREEMENT_L1 is this choice).
-Writes ``<out-dir>/choose_kernel_agreement.md``/``.csv``. About 10 min on 2 cores.
+Writes ``<out-dir>/choose_kernel_agreement.md``/``.csv``. About 6 min on 2 cores.
 """
 
 from __future__ import annotations

@@ -18,7 +18,8 @@ from blurloc.data.tum import convert_tum, pose_at, read_groundtruth, split_seque
 GROUND_TRUTH = next(path for path in tum_files() if "fr1_rpy" in path.name)
 needs_files = pytest.mark.skipif(
     not GROUND_TRUTH.is_file() or not (posed_root() / POSED_SCENE).is_dir(),
-    reason="the development set's TUM files are not present",
+    reason="the development set's TUM files or posed frames (which these tests read) are not "
+    "present",
 )
 
 

@@ -459,10 +459,15 @@ def test_the_kernel_disagreement_of_a_grid() -> None:
     assert kernel_disagreement([line]) == 0.0
     assert kernel_disagreement([delta, np.roll(np.pad(delta, 1), 1, axis=1)]) == pytest.approx(2)
     assert 0.1 < kernel_disagreement([line, longer, line]) < 1.0
+    across, down = np.full((1, 5), 0.2), np.full((5, 1), 0.2)  # share the centre pixel only
+    assert kernel_disagreement([across, down]) == pytest.approx(1.6)
+    assert kernel_disagreement([line, 3 * line]) == pytest.approx(0.0)  # each divided by its sum
     with pytest.raises(ValueError, match="odd sides"):
         kernel_disagreement([np.ones((2, 2)) / 4])
     with pytest.raises(ValueError, match="odd sides"):
         kernel_disagreement([])
+    with pytest.raises(ValueError, match="sum to more than 0"):
+        kernel_disagreement([line, np.zeros((3, 3))])
 
 
 def test_a_frame_whose_kernels_agree_is_restored_once_with_the_middle_kernel() -> None:
@@ -489,3 +494,29 @@ def test_a_frame_whose_kernels_agree_is_restored_once_with_the_middle_kernel() -
                local_motion_kernels(turning).kernels) > AGREEMENT_L1  # fmt: skip
     with pytest.raises(ValueError, match="agreement_l1"):
         deblur_video_motion(blurred, agreement_l1=-0.1)
+
+
+def test_a_pan_takes_one_kernel_per_frame_by_default_and_an_even_grid_its_middle_point() -> None:
+    """With the default tolerance most of a pan's frames take one kernel (the restoration of
+    ``agreement_l1=2``, every frame one kernel) and the others keep their grid (that of
+    ``agreement_l1=None``); on a 2 x 2 grid the middle point is row 1, column 1."""
+    blurred, _ = photo_video(skimage.data.coffee(), frames=6, step_px=1.0, angle_deg=20.0,
+                             noise_sigma=0.0, seed=1)  # fmt: skip
+    agree = np.array([kernel_disagreement(kernels) <= AGREEMENT_L1
+                      for kernels in local_motion_kernels(blurred).kernels])  # fmt: skip
+    assert agree.mean() >= 0.8
+    default = deblur_video_motion(blurred)
+    np.testing.assert_array_equal(
+        default[agree], deblur_video_motion(blurred, agreement_l1=2.0)[agree]
+    )
+    np.testing.assert_array_equal(
+        default[~agree], deblur_video_motion(blurred, agreement_l1=None)[~agree]
+    )
+    motion = video_motion_kernels(blurred)
+    others = trajectory_kernel(np.array([[0.0, -4.0], [0.0, 4.0]]), origin=np.zeros(2))
+    four = [[others, others, others, kernel] for kernel in motion.kernels]
+    np.testing.assert_array_equal(
+        deblur_by_local_kernels(blurred, four, np.repeat(motion.lengths_px[:, None], 4, axis=1),
+                                2, agreement_l1=2.0),
+        deblur_by_kernels(blurred, motion.kernels, motion.lengths_px),
+    )  # fmt: skip

@@ -15,6 +15,7 @@ whose kernel is larger than the frame, is passed through.
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial.distance import pdist
 
 from .blur import estimate_noise_sigma
 from .blur.video_motion import DEFAULT_EXPOSURE_SHARE, LOCAL_GRID, grid_points, local_motion_kernels
@@ -195,9 +196,10 @@ def deblur_by_local_kernels(
     reach; on a 3 x 3 grid a quarter to under half of the frame per point, before the margin).
     A frame whose kernels all lie within ``agreement_l1`` of one another
     (:func:`kernel_disagreement`) is restored as with one point, by the kernel of the middle
-    point (index P // 2 of the P points: the centre on an odd grid) over the whole frame. A
-    point whose path is under MIN_PATH_PX, or whose kernel is larger than the frame,
-    contributes the frame as it is; a frame where every point's does is passed through.
+    point (row and column ``grid // 2``: the centre on an odd grid) over the whole frame, and
+    passed through when that point's path is under MIN_PATH_PX. A point whose path is under
+    MIN_PATH_PX, or whose kernel is larger than the frame, contributes the frame as it is; a
+    frame where every point's does is passed through.
 
     Parameters
     ----------
@@ -233,8 +235,9 @@ def deblur_by_local_kernels(
     ValueError
         If the counts of frames, kernel lists and lengths differ, a frame's kernels or lengths
         are not ``grid`` squared, ``grid`` < 1, ``min_weight`` or ``weight_per_noise`` is not
-        positive, ``boundary`` is unknown, ``agreement_l1`` is negative or (once a frame is
-        restored) ``iterations`` is negative.
+        positive, ``boundary`` is unknown, ``agreement_l1`` is negative, a kernel is not 2-D
+        with odd sides or does not sum to more than 0 (``grid`` > 1 and ``agreement_l1`` set:
+        :func:`kernel_disagreement`) or (once a frame is restored) ``iterations`` is negative.
     """
     frames = np.asarray(frames)
     lengths_px = np.asarray(lengths_px, float)
@@ -259,8 +262,9 @@ def deblur_by_local_kernels(
         frame_weights, covers = blends[grid]
         if (grid > 1 and agreement_l1 is not None
                 and kernel_disagreement(frame_kernels) <= agreement_l1):  # fmt: skip
-            middle = len(frame_kernels) // 2
-            frame_kernels, frame_lengths = [frame_kernels[middle]], frame_lengths[middle:][:1]
+            middle = (grid // 2) * grid + grid // 2
+            frame_kernels = [frame_kernels[middle]]
+            frame_lengths = frame_lengths[middle : middle + 1]
             frame_weights, covers = blends[1]
         usable = [
             length >= MIN_PATH_PX
@@ -293,14 +297,14 @@ def kernel_disagreement(kernels: list[np.ndarray]) -> float:
 
         d = \max_{j, k} \sum_x |c_j(x) - c_k(x)|
 
-    with the kernels centred on one another (each is centred on the frame's sharp instant):
-    0 for equal kernels, 2 for kernels (each summing to 1) that share no pixel. A pan moves the
-    image alike at every point; a turn about the optical axis or a move along it does not.
+    with the kernels centred on one another (each is centred on the frame's sharp instant) and
+    each divided by its sum: 0 for equal kernels, 2 for kernels that share no pixel. A pan moves
+    the image alike at every point; a turn about the optical axis or a move along it does not.
 
     Parameters
     ----------
-    kernels : list of numpy.ndarray
-        2-D kernels with odd sides, each summing to 1.
+    kernels : sequence of numpy.ndarray
+        2-D kernels with odd sides, each summing to more than 0.
 
     Returns
     -------
@@ -310,17 +314,22 @@ def kernel_disagreement(kernels: list[np.ndarray]) -> float:
     Raises
     ------
     ValueError
-        If no kernel is given or a kernel is not 2-D with odd sides.
+        If no kernel is given, or a kernel is not 2-D with odd sides or does not sum to more
+        than 0.
     """
     shapes = [np.shape(kernel) for kernel in kernels]
-    if not kernels or any(len(shape) != 2 or shape[0] % 2 == 0 or shape[1] % 2 == 0
-                          for shape in shapes):  # fmt: skip
+    if len(shapes) == 0 or any(len(shape) != 2 or shape[0] % 2 == 0 or shape[1] % 2 == 0
+                               for shape in shapes):  # fmt: skip
         raise ValueError(f"kernels must be 2-D with odd sides, got shapes {shapes}")
+    sums = [float(np.sum(kernel)) for kernel in kernels]
+    if not all(total > 0 for total in sums):
+        raise ValueError(f"kernels must sum to more than 0, got sums {sums}")
     size = np.max(shapes, axis=0)
-    flat = np.stack([np.pad(kernel, [((side - own) // 2,) * 2 for side, own in
-                                     zip(size, np.shape(kernel), strict=True)]).ravel()
-                     for kernel in kernels])  # fmt: skip
-    return float(np.abs(flat[:, None, :] - flat[None, :, :]).sum(axis=2).max())
+    flat = np.stack([np.pad(np.asarray(kernel, float) / total,
+                            [((side - own) // 2,) * 2 for side, own in
+                             zip(size, np.shape(kernel), strict=True)]).ravel()
+                     for kernel, total in zip(kernels, sums, strict=True)])  # fmt: skip
+    return float(pdist(flat, "cityblock").max()) if len(flat) > 1 else 0.0
 
 
 def _covered(weight: np.ndarray) -> tuple[slice, slice]:

@@ -98,11 +98,12 @@ def read_manifest(path: str | os.PathLike | None = None) -> list[ManifestEntry]:
 def data_root(part: str | None = None) -> Path:
     """Folder holding the development set's files, or those of one part.
 
-    The folder named by the environment variable ``BLURLOC_REAL_DATA`` when it is set, else the
-    first of ``samples/real`` and ``../shared/real`` (beside the repository) that holds the
+    The first of the folder named by the environment variable ``BLURLOC_REAL_DATA`` (when it
+    is set), ``samples/real`` and ``../shared/real`` (beside the repository) that holds the
     first file outside scikit-image of ``part`` (of the whole manifest when None): the parts
-    committed with the repository are read from ``samples/real``, the others from wherever
-    they were placed; ``samples/real`` when neither folder holds it.
+    committed with the repository are read from ``samples/real`` unless the variable's folder
+    holds them too, the others from wherever they were placed; when no folder holds it, the
+    variable's folder if set, else ``samples/real``.
 
     Parameters
     ----------
@@ -117,16 +118,17 @@ def data_root(part: str | None = None) -> Path:
     ------
     ValueError
         If ``part`` is not one of PARTS.
+    DataError
+        If the manifest cannot be read (:func:`read_manifest`).
     """
-    if os.environ.get(ROOT_VARIABLE):
-        return Path(os.environ[ROOT_VARIABLE])
     local = manifest_path().parent
+    named = [Path(os.environ[ROOT_VARIABLE])] if os.environ.get(ROOT_VARIABLE) else []
     entries = read_manifest() if part is None else part_entries(part)
     files = [e.file for e in entries if not e.file.startswith(SKIMAGE_PREFIX)]
-    for candidate in (local, local.parents[2] / "shared" / "real"):
+    for candidate in [*named, local, local.parents[2] / "shared" / "real"]:
         if files and (candidate / files[0]).is_file():
             return candidate
-    return local
+    return named[0] if named else local
 
 
 def entry_path(entry: ManifestEntry, root: str | os.PathLike | None = None) -> Path:
@@ -150,7 +152,7 @@ def verify(
     Parameters
     ----------
     root : str or os.PathLike, optional
-        Data root (:func:`data_root` when None).
+        Data root (each part's :func:`data_root` when None).
     manifest : str or os.PathLike, optional
         The manifest CSV (default :func:`manifest_path`).
 
@@ -185,14 +187,14 @@ def part_entries(part: str, manifest: str | os.PathLike | None = None) -> list[M
 
 def files_present(*parts: str, root: str | os.PathLike | None = None) -> bool:
     """Whether every file of the given parts (all parts when none is given) lies where
-    :func:`entry_path` looks: the development set's files are not part of a fresh clone.
+    :func:`entry_path` looks: a fresh clone holds every part but the posed frames.
 
     Parameters
     ----------
     *parts : str
         Parts of the manifest (``PARTS``).
     root : str or os.PathLike, optional
-        Data root (:func:`data_root` when None).
+        Data root (each part's :func:`data_root` when None).
 
     Returns
     -------
