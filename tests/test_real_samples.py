@@ -250,3 +250,19 @@ def test_spearman_difference_resolves_a_better_measure_and_not_an_equal_one():
         spearman_difference(follows[:79], ignores, motion)
     with pytest.raises(ValueError, match="two blocks"):
         spearman_difference(follows[:15], ignores[:15], motion[:15])
+
+
+def test_the_named_folder_is_looked_in_first_part_by_part(tmp_path, monkeypatch):
+    """A folder named by BLURLOC_REAL_DATA that holds one part serves that part; the parts it
+    lacks are still read from the repository."""
+    tum = part_entries("tum")
+    if not files_present("tum"):
+        pytest.skip("the development set's tum files are not present")
+    for entry in tum:
+        (tmp_path / entry.file).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(entry_path(entry), tmp_path / entry.file)
+    monkeypatch.setenv(ROOT_VARIABLE, str(tmp_path))
+    assert data_root("tum") == tmp_path
+    assert entry_path(tum[0]) == tmp_path / tum[0].file
+    if (manifest_path().parent / part_entries("recording")[0].file).is_file():
+        assert data_root("recording") == manifest_path().parent

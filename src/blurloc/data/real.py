@@ -10,6 +10,7 @@ part's data root (:func:`data_root`). Every problem is reported as a
 from __future__ import annotations
 
 import csv
+import functools
 import hashlib
 import os
 from dataclasses import dataclass
@@ -76,6 +77,15 @@ def read_manifest(path: str | os.PathLike | None = None) -> list[ManifestEntry]:
     path = Path(path) if path is not None else manifest_path()
     if not path.is_file():
         raise DataError(f"{path}: manifest is missing")
+    stat = path.stat()
+    return list(_parsed_manifest(str(path), stat.st_mtime_ns, stat.st_size))
+
+
+@functools.lru_cache(maxsize=8)
+def _parsed_manifest(name: str, mtime_ns: int, size: int) -> tuple[ManifestEntry, ...]:
+    """The checked rows of the manifest ``name``, parsed once per version of the file (its
+    modification time and size key the cache: the set's lookups read it once per file)."""
+    path = Path(name)
     with path.open(newline="") as handle:
         reader = csv.DictReader(handle)
         if reader.fieldnames != _COLUMNS:
@@ -92,7 +102,7 @@ def read_manifest(path: str | os.PathLike | None = None) -> list[ManifestEntry]:
         if entry.file in seen:
             raise DataError(f"{path}:{line}: {entry.file} is listed twice")
         seen.add(entry.file)
-    return entries
+    return tuple(entries)
 
 
 def data_root(part: str | None = None) -> Path:
