@@ -49,11 +49,17 @@ ENTRIES = read_manifest()
 FILES_PRESENT = all(entry_path(e).is_file() for e in ENTRIES)
 
 
-def needs(*parts: str) -> pytest.MarkDecorator:
-    """Skip unless every file of ``parts`` (all parts when none is given) is where the reader
+def missing(*parts: str) -> str:
+    """Why a test of ``parts`` cannot run, or "" when every file of them is where the reader
     looks: the posed 640x480 frames are fetched (``samples/real/fetch.py``), not committed."""
-    which = " ".join(["the development set's", " and ".join(parts), "files"]).replace("  ", " ")
-    return pytest.mark.skipif(not files_present(*parts), reason=f"{which} are not present")
+    present = files_present(*parts)
+    return "" if present else f"the development set's {' and '.join(parts)} files are not present"
+
+
+def needs(*parts: str) -> pytest.MarkDecorator:
+    """Skip unless every file of ``parts`` is present (:func:`missing`)."""
+    reason = missing(*parts)
+    return pytest.mark.skipif(bool(reason), reason=reason or "present")
 
 
 def test_manifest_lists_every_part_with_source_licence_and_commit():
@@ -70,8 +76,8 @@ def test_every_staged_file_is_in_the_manifest(part):
     """Every file in a part's folder under its data root (the repository's samples/real for the
     committed parts, wherever the fetched ones were placed) is listed, and every listed file of
     the part is there; the sharp photographs ship with scikit-image."""
-    if not files_present(part):
-        pytest.skip(f"the development set's {part} files are not present")
+    if reason := missing(part):
+        pytest.skip(reason)
     listed = {e.file for e in part_entries(part) if not e.file.startswith(SKIMAGE_PREFIX)}
     root = data_root(part)
     on_disk = {
@@ -84,8 +90,8 @@ def test_every_staged_file_is_in_the_manifest(part):
 
 @pytest.mark.parametrize("part", PARTS)
 def test_checksums_match_the_manifest(part):
-    if not files_present(part):
-        pytest.skip(f"the development set's {part} files are not present")
+    if reason := missing(part):
+        pytest.skip(reason)
     for entry in part_entries(part):
         assert sha256_of(entry_path(entry)) == entry.sha256, entry.file
 
@@ -256,8 +262,8 @@ def test_the_named_folder_is_looked_in_first_part_by_part(tmp_path, monkeypatch)
     """A folder named by BLURLOC_REAL_DATA that holds one part serves that part; the parts it
     lacks are still read from the repository."""
     tum = part_entries("tum")
-    if not files_present("tum"):
-        pytest.skip("the development set's tum files are not present")
+    if reason := missing("tum"):
+        pytest.skip(reason)
     for entry in tum:
         (tmp_path / entry.file).parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(entry_path(entry), tmp_path / entry.file)

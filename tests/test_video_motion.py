@@ -33,6 +33,9 @@ from blurloc.video_wiener import (
     kernel_disagreement,
 )
 
+#: A vertical line kernel, 8 px long: unlike the pans' kernels.
+VERTICAL_LINE = trajectory_kernel(np.array([[0.0, -4.0], [0.0, 4.0]]), origin=np.zeros(2))
+
 
 def _panned(step: tuple[float, float], frames: int = 5) -> np.ndarray:
     """Sharp 160x120 crops of a photograph whose content moves by ``step`` px per frame."""
@@ -478,7 +481,7 @@ def test_a_frame_whose_kernels_agree_is_restored_once_with_the_middle_kernel() -
                              noise_sigma=0.0, seed=1)  # fmt: skip
     motion = video_motion_kernels(blurred)
     nine = np.repeat(motion.lengths_px[:, None], 9, axis=1)
-    others = [trajectory_kernel(np.array([[0.0, -4.0], [0.0, 4.0]]), origin=np.zeros(2))] * 4
+    others = [VERTICAL_LINE] * 4
     mixed = [[*others, kernel, *others] for kernel in motion.kernels]  # the middle one differs
     single = deblur_by_kernels(blurred, motion.kernels, motion.lengths_px)
     np.testing.assert_array_equal(deblur_by_local_kernels(blurred, mixed, nine, 3,
@@ -513,7 +516,7 @@ def test_a_pan_takes_one_kernel_per_frame_by_default_and_an_even_grid_its_middle
         default[~agree], deblur_video_motion(blurred, agreement_l1=None)[~agree]
     )
     motion = video_motion_kernels(blurred)
-    others = trajectory_kernel(np.array([[0.0, -4.0], [0.0, 4.0]]), origin=np.zeros(2))
+    others = VERTICAL_LINE
     four = [[others, others, others, kernel] for kernel in motion.kernels]
     np.testing.assert_array_equal(
         deblur_by_local_kernels(blurred, four, np.repeat(motion.lengths_px[:, None], 4, axis=1),
