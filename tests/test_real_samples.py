@@ -53,7 +53,10 @@ def missing(*parts: str) -> str:
     """Why a test of ``parts`` cannot run, or "" when every file of them is where the reader
     looks: the posed 640x480 frames are fetched (``samples/real/fetch.py``), not committed."""
     present = files_present(*parts)
-    return "" if present else f"the development set's {' and '.join(parts)} files are not present"
+    if present:
+        return ""
+    return (f"the development set's {' and '.join(parts)} files are not present: "
+            f"python samples/real/fetch.py --parts {' '.join(parts)}")  # fmt: skip
 
 
 def needs(*parts: str) -> pytest.MarkDecorator:
@@ -111,6 +114,20 @@ def test_scikit_image_photographs_match_their_checksums(tmp_path):
         rows = [line for line in source if line.startswith(("file,", SKIMAGE_PREFIX))]
         target.writelines(rows)
     assert len(verify(tmp_path, manifest)) == len(rows) - 1 >= 17
+
+
+def test_verify_checks_the_parts_named(tmp_path):
+    """Only the parts named are checked: the scikit-image photographs pass where every other
+    part is missing, and an unknown part is refused by name."""
+    manifest = tmp_path / "MANIFEST.csv"
+    shutil.copyfile(manifest_path(), manifest)
+    checked = verify(tmp_path, manifest, parts=["sharp"])
+    assert {entry.part for entry in checked} == {"sharp"}
+    assert len(checked) == len(part_entries("sharp")) >= 17
+    with pytest.raises(DataError, match="missing"):
+        verify(tmp_path, manifest, parts=["sharp", "tum"])
+    with pytest.raises(ValueError, match="'tums'"):
+        verify(tmp_path, manifest, parts=["tums"])
 
 
 def test_a_changed_or_missing_file_is_named(tmp_path):

@@ -5,14 +5,16 @@ names: the byte copies (blurred photographs, the GoPro pair, the TUM ground-trut
 ``git show COMMIT:PATH``; the posed frames and the whole recording are written from the
 ``data/`` folder of jmstark/gpu_odometry at its commit by ``make_posed.py`` and
 ``blurloc.data.tum.convert_tum``, as the README says. scikit-image's photographs are read from
-the installed package and not fetched. At the end every file is checked against its sha256
-(``blurloc.data.real.verify``); a file that differs is named and the script exits with 1.
+the installed package and not fetched. ``--parts`` writes only the parts named (a fresh clone
+holds every part but ``posed``). At the end every file of those parts is checked against its
+sha256 (``blurloc.data.real.verify``); a file that differs is named and the script exits
+with 1.
 
 Needs git and, with the default ``--repositories``, access to github.com: of each of the five
 repositories only the commit the manifest names is fetched (depth 1; of four of them only the
 files listed, of gpu_odometry its whole tree, about 400 MB, for the recording's frames)::
 
-    python samples/real/fetch.py [--out samples/real]
+    python samples/real/fetch.py [--out samples/real] [--parts posed ...]
         [--repositories https://github.com/{owner}/{name}.git] [--work /tmp/blurloc-fetch]
 
 ``--repositories`` is a template for where each repository is cloned from (``{owner}`` and
@@ -30,6 +32,7 @@ from pathlib import Path
 
 from blurloc.data import DataError
 from blurloc.data.real import (
+    PARTS,
     POSED_SCENE,
     RECORDING_SCENE,
     SKIMAGE_PREFIX,
@@ -93,9 +96,12 @@ def main() -> None:
     parser.add_argument("--repositories", default="https://github.com/{owner}/{name}.git",
                         help="where each source repository is cloned from")  # fmt: skip
     parser.add_argument("--work", type=Path, default=Path("/tmp/blurloc-fetch"))
+    parser.add_argument("--parts", nargs="+", choices=PARTS, default=list(PARTS),
+                        help="parts to write (default: every part; a fresh clone lacks only "
+                        "posed)")  # fmt: skip
     args = parser.parse_args()
     args.work.mkdir(parents=True, exist_ok=True)
-    entries = read_manifest()
+    entries = [entry for entry in read_manifest() if entry.part in args.parts]
     for entry in entries:
         if entry.part in ("posed", "recording") or entry.file.startswith(SKIMAGE_PREFIX):
             continue
@@ -105,17 +111,20 @@ def main() -> None:
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_bytes(git_bytes(git_dir, entry.commit, entry.source_path))
         print(f"wrote {target}", flush=True)
-    recording = next(e for e in entries if e.part == "recording" and e.commit)
-    git_dir = repository(recording.source_repository, recording.commit, args.repositories,
-                         args.work, blobs=True)  # fmt: skip
-    source = recording_source(git_dir, recording.commit, args.work)
-    subprocess.run([sys.executable, str(HERE / "make_posed.py"), str(source),
-                    str(posed_root(args.out) / POSED_SCENE), "--start", POSED_START_STAMP,
-                    "--frames", str(POSED_FRAMES)], check=True)  # fmt: skip
-    convert_tum(source, recording_root(args.out), RECORDING_SCENE, width=RECORDING_WIDTH,
-                overwrite=True)  # fmt: skip
+    written = [e for e in entries if e.part in ("posed", "recording") and e.commit]
+    if written:
+        git_dir = repository(written[0].source_repository, written[0].commit, args.repositories,
+                             args.work, blobs=True)  # fmt: skip
+        source = recording_source(git_dir, written[0].commit, args.work)
+    if "posed" in args.parts:
+        subprocess.run([sys.executable, str(HERE / "make_posed.py"), str(source),
+                        str(posed_root(args.out) / POSED_SCENE), "--start", POSED_START_STAMP,
+                        "--frames", str(POSED_FRAMES)], check=True)  # fmt: skip
+    if "recording" in args.parts:
+        convert_tum(source, recording_root(args.out), RECORDING_SCENE, width=RECORDING_WIDTH,
+                    overwrite=True)  # fmt: skip
     try:
-        checked = verify(args.out)
+        checked = verify(args.out, parts=args.parts)
     except DataError as error:
         sys.exit(f"the fetched set differs from the manifest: {error}")
     print(f"{len(checked)} files match the manifest's sha256 under {args.out}")

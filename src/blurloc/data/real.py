@@ -13,6 +13,7 @@ import csv
 import functools
 import hashlib
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -155,9 +156,11 @@ def sha256_of(path: str | os.PathLike) -> str:
 
 
 def verify(
-    root: str | os.PathLike | None = None, manifest: str | os.PathLike | None = None
+    root: str | os.PathLike | None = None,
+    manifest: str | os.PathLike | None = None,
+    parts: Sequence[str] | None = None,
 ) -> list[ManifestEntry]:
-    """Check every file of the manifest against its sha256.
+    """Check every file of the manifest (or of some of its parts) against its sha256.
 
     Parameters
     ----------
@@ -165,6 +168,8 @@ def verify(
         Data root (each part's :func:`data_root` when None).
     manifest : str or os.PathLike, optional
         The manifest CSV (default :func:`manifest_path`).
+    parts : sequence of str, optional
+        Parts to check (``PARTS``; default every part).
 
     Returns
     -------
@@ -173,10 +178,21 @@ def verify(
 
     Raises
     ------
+    ValueError
+        If a part is not one of PARTS.
     DataError
         Naming the first file that is missing or whose sha256 differs from the manifest's.
+
+    Examples
+    --------
+    >>> from blurloc.data.real import verify
+    >>> len(verify(parts=["tum"]))  # the two TUM ground-truth files of a fresh clone
+    2
     """
-    entries = read_manifest(manifest)
+    unknown = sorted(set(parts or ()) - set(PARTS))
+    if unknown:
+        raise ValueError(f"parts must be among {PARTS}, got {unknown}")
+    entries = [entry for entry in read_manifest(manifest) if parts is None or entry.part in parts]
     for entry in entries:
         path = entry_path(entry, root)
         if not path.is_file():
