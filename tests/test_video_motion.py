@@ -392,6 +392,19 @@ def test_frame_warps_see_a_turn_about_the_optical_axis() -> None:
         frame_warps(frames, np.zeros((3, 2)))
 
 
+@pytest.mark.parametrize(("size", "step"), [((160, 120), 1.0), ((640, 480), 4.0)])
+def test_frame_warps_keep_a_turn_at_any_frame_size(size: tuple[int, int], step: float) -> None:
+    """A GoPro-style video panning and turning 0.3 degrees per sub-frame (2.7 degrees per frame
+    of 9 sub-frames), the pan scaled with the frame: at 640x480 as at 160x120 every pair keeps
+    its affine warp and the turn, though there the translation departs from the centre's
+    displacement by several px."""
+    blurred, _ = photo_video(skimage.data.coffee(), frames=4, step_px=step, angle_deg=20.0,
+                             size=size, noise_sigma=0.0, seed=1, roll_deg=0.3)  # fmt: skip
+    warps = frame_warps(blurred, frame_shifts(blurred))
+    angles = np.degrees(np.arctan2(warps[:, 1, 0], warps[:, 0, 0]))
+    np.testing.assert_allclose(angles, -2.7, atol=0.15)
+
+
 def test_local_kernels_where_the_image_moves_differently_across_the_frame() -> None:
     """With a grid of one point, the frame's centre, the kernels are video_motion_kernels'. With
     a turn about the optical axis every point of a 3 x 3 grid gets its own, and deblurring with

@@ -54,13 +54,19 @@ ECC_SMOOTHING_PX = 5
 #: frames' variance and counts as none (a frame without structure, or a lock onto a wrong peak).
 ECC_MIN_CORRELATION = 0.5
 #: A displacement that departs from a neighbouring pair's by more than this (px) and by more than
-#: half the neighbour's length is measured again from that neighbour's (:func:`frame_shifts`),
-#: and an affine warp whose displacement at the frame's centre departs from the translation by
-#: more than this is not kept (:func:`frame_warps`). A lock onto a wrong peak departs by far more
-#: (tens of px); a camera's motion can change by a few px from one frame to the next (the photo
-#: videos' wobble changes a 13.5 px displacement by up to about 4 px), where measuring again
-#: costs time only: the correlation coefficient decides.
+#: half the neighbour's length is measured again from that neighbour's (:func:`frame_shifts`).
+#: A lock onto a wrong peak departs by far more (tens of px); a camera's motion can change by a
+#: few px from one frame to the next (the photo videos' wobble changes a 13.5 px displacement by
+#: up to about 4 px), where measuring again costs time only: the correlation coefficient decides.
 NEIGHBOUR_RESTART_PX = 3.0
+#: An affine warp whose displacement at the frame's centre departs from the translation by more
+#: than this share of the frame's diagonal is not kept (:func:`frame_warps`): 3 px at 160x120,
+#: 12 px at 640x480. Where the camera also turns about its optical axis, the translation, one
+#: compromise over the whole frame, departs from the centre's displacement by an amount that
+#: grows with the frame's size (GoPro-style photo videos turning 0.3 degrees per sub-frame, pan
+#: scaled with the frame: at most 2.2 px at 160x120, 4.4 px at 320x240, 9.4 px at 640x480); an
+#: affine fit gone astray departs by tens of px at any size.
+AFFINE_ASTRAY_SHARE = 0.015
 #: Points per side of the grid at which :func:`local_motion_kernels` gives each frame a kernel
 #: of its own.
 LOCAL_GRID = 3
@@ -183,9 +189,9 @@ def frame_warps(frames: np.ndarray, shifts: np.ndarray) -> np.ndarray:
     translation :math:`(I, \Delta_t)` of :func:`frame_shifts`. A turn about the optical axis, a
     move along it or a tilt moves the image differently in different parts of the frame, which
     one translation cannot describe. Where ECC does not align the frames (see
-    :func:`frame_shifts`), or its warp moves the frame's centre more than NEIGHBOUR_RESTART_PX
-    away from where the translation does (an affine fit gone astray on a frame with little
-    structure), the translation is kept.
+    :func:`frame_shifts`), or its warp moves the frame's centre further from where the
+    translation does than AFFINE_ASTRAY_SHARE of the frame's diagonal (an affine fit gone astray
+    on a frame with little structure), the translation is kept.
 
     Parameters
     ----------
@@ -215,13 +221,14 @@ def frame_warps(frames: np.ndarray, shifts: np.ndarray) -> np.ndarray:
                          f"{shifts.shape}")  # fmt: skip
     gray = [to_gray(frame).astype(np.float32) for frame in frames]
     centre = np.array([gray[0].shape[1], gray[0].shape[0]], float) / 2
+    astray_px = AFFINE_ASTRAY_SHARE * 2 * np.linalg.norm(centre)
     warps = np.empty((len(shifts), 2, 3))
     for pair, ((previous, current), shift) in enumerate(
         zip(itertools.pairwise(gray), shifts, strict=True)
     ):
         correlation, warp = _refine(previous, current, _translation(shift), cv2.MOTION_AFFINE)
         moved = warp[:, :2] @ centre + warp[:, 2] - centre
-        astray = np.linalg.norm(moved - shift) > NEIGHBOUR_RESTART_PX
+        astray = np.linalg.norm(moved - shift) > astray_px
         warps[pair] = _translation(shift) if astray or correlation == -np.inf else warp
     return warps
 
