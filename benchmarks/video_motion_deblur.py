@@ -4,8 +4,9 @@ blind deblurring frame by frame, with and without noise.
     python benchmarks/video_motion_deblur.py --standin data/standin
         [--clean-standin data/standin-clean-s8] [--frames 50] [--out-dir figures]
 
-First the exposure share (SHARES; None calibrates it per video from the blind estimates), the
-floor of the gradient regulariser's weight (WEIGHTS) and its weight per unit of the frame's
+First the exposure share (SHARES; None calibrates it per video,
+:func:`~blurloc.blur.calibrate_exposure_share`), the floor of the gradient regulariser's weight
+(WEIGHTS) and its weight per unit of the frame's
 estimated noise (PER_NOISE) of :func:`blurloc.video_wiener.deblur_video_motion` are chosen on
 12 GoPro-style videos of the photographs that the test videos do not show
 (:func:`~blurloc.experiments.photo_video.photo_training_videos`, 12 frames each), without noise

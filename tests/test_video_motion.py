@@ -132,6 +132,39 @@ def test_exposure_paths_follow_the_motion_over_the_exposure_share() -> None:
         exposure_paths(np.ones((2, 3)), exposure_share=1.0)
 
 
+def _blurred_by_share(steps: np.ndarray, share: float) -> np.ndarray:
+    """160x120 crops of a photograph whose mid-exposure positions move by ``steps``, each
+    blurred in linear light by the kernel of its exposure path under ``share``."""
+    photo = srgb_to_linear(skimage.data.astronaut() / 255.0).astype(np.float32)
+    middles = np.vstack([np.zeros((1, 2)), np.cumsum(steps, axis=0)])
+    frames = []
+    for middle, path in zip(middles, exposure_paths(steps, share), strict=True):
+        kernel = np.float32(trajectory_kernel(path, origin=np.zeros(2))[::-1, ::-1])
+        matrix = np.float32([[1, 0, middle[0] - 100], [0, 1, middle[1] - 100]])
+        moved = cv2.warpAffine(photo, matrix, (160, 120), flags=cv2.INTER_CUBIC,
+                               borderMode=cv2.BORDER_REFLECT)  # fmt: skip
+        linear = np.clip(cv2.filter2D(moved, -1, kernel), 0, 1)
+        frames.append(np.uint8(np.rint(255 * linear_to_srgb(linear))))
+    return np.stack(frames)
+
+
+@pytest.mark.parametrize("share", [1.0, 1.5, 2.0])
+def test_the_exposure_share_is_read_from_frames_whose_blur_changes(share: float) -> None:
+    """A camera that speeds up, slows down and turns its direction: each frame's kernel differs
+    from its neighbours', and the share under which the frames, with their measured motion,
+    explain one another is within 15 % of the one they were blurred with (not the default's
+    1.0 where that is 1.5 or 2). A steady pan blurs every frame alike: no share is told
+    apart."""
+    steps = np.array([[2.0, 0.5], [4.0, 1.0], [5.0, 3.0], [4.0, 5.0], [2.0, 6.0], [1.0, 4.0]])
+    blurred = _blurred_by_share(steps, share)
+    read = calibrate_exposure_share(blurred, frame_shifts(blurred))
+    assert read == pytest.approx(share, rel=0.15)
+    steady = _blurred_by_share(np.tile([3.3, 1.7], (6, 1)), share)
+    assert calibrate_exposure_share(steady, frame_shifts(steady)) is None
+    with pytest.raises(ValueError, match="shifts must be"):
+        calibrate_exposure_share(blurred, np.zeros((3, 2)))
+
+
 def test_a_still_video_has_no_blur_and_is_returned_unchanged() -> None:
     still = _panned((0.0, 0.0), frames=3)
     motion = video_motion_kernels(still)

@@ -81,8 +81,8 @@ def deblur_video_motion(
         (T, H, W, 3) uint8 consecutive frames, T >= 2.
     exposure_share : float or None
         Exposure time over frame interval, the camera's setting (default
-        DEFAULT_EXPOSURE_SHARE, as for frames averaged the GoPro way); None calibrates it from
-        the frames' blind estimates (:func:`~blurloc.blur.video_motion.calibrate_exposure_share`).
+        DEFAULT_EXPOSURE_SHARE, as for frames averaged the GoPro way); None calibrates it on
+        the frames (:func:`~blurloc.blur.video_motion.calibrate_exposure_share`).
     min_weight : float
         :math:`\lambda_{\min}`, > 0.
     grid : int

@@ -8,8 +8,9 @@ around the frame's own position. Blurred frames align at their blurs' centroids,
 that speeds up or slows down puts off mid-exposure: the measured positions are moved there
 first (:func:`mid_exposure_shifts`). That share (exposure time over frame interval: about 1 for
 frames averaged the GoPro way, whose N sub-frames spread over N steps of the motion; 0.5 for a
-180° shutter) is a setting of the camera; where it is not known it can be read from the frames'
-blind blur estimates where their sinc zeros are trusted (:func:`calibrate_exposure_share`).
+180° shutter) is a setting of the camera; where it is not known it can be read from the frames
+themselves where their kernels differ: under the true share, each frame blurred by its
+neighbour's kernel matches the neighbour blurred by its own (:func:`calibrate_exposure_share`).
 
 Conventions as in :mod:`blurloc.blur`: images uint8 or float in [0, 1]; displacements in px of
 the frames given, x right and y down.
@@ -24,7 +25,7 @@ import cv2
 import numpy as np
 from scipy.linalg import solve_banded
 
-from .estimation import estimate_motion_blur
+from ..images import as_float_image, srgb_to_linear
 from .kernels import trajectory_kernel
 from .spectrum import to_gray
 
@@ -41,8 +42,15 @@ DEFAULT_EXPOSURE_SHARE = 1.0
 #: at sqrt(6) = 2.45).
 MAX_CORRECTION_GAIN = 10.0
 MAX_CORRECTED_SHARE = float(np.sqrt(6 * (1 - 1 / MAX_CORRECTION_GAIN)))
-#: Frames whose image moves less than this (px per frame) do not calibrate the exposure share.
+#: Frame pairs whose image moves less than this (px) do not calibrate the exposure share
+#: (:func:`calibrate_exposure_share`),
 CALIBRATION_MIN_MOTION_PX = 1.0
+#: the shares it tries, then those within one step of the best every CALIBRATION_STEP,
+CALIBRATION_SHARES = np.round(np.arange(0.2, 3.01, 0.2), 2)
+CALIBRATION_STEP = 0.05
+#: and how far below zero its least difference must lie, as a share of the frames' gradient
+#: energy, to tell the shares apart (a steady pan, whose frames share one kernel, stays near 0).
+CALIBRATION_MIN_DEPTH = 0.01
 #: Refinement of the displacement between frames by ECC (:func:`frame_shifts`): at most this
 #: many iterations,
 ECC_ITERATIONS = 30
@@ -62,9 +70,8 @@ NEIGHBOUR_RESTART_PX = 3.0
 #: An affine warp whose displacement at the frame's centre departs from the translation by more
 #: than this share of the frame's diagonal is not kept (:func:`frame_warps`): 3 px at 160x120,
 #: 12 px at 640x480. Where the camera also turns about its optical axis, the translation, one
-#: compromise over the whole frame, departs from the centre's displacement by an amount that
-#: grows with the frame's size (GoPro-style photo videos turning 0.3 degrees per sub-frame, pan
-#: scaled with the frame: at most 2.2 px at 160x120, 4.4 px at 320x240, 9.4 px at 640x480); an
+#: compromise over the whole frame, departs from the centre's displacement in proportion to the
+#: frame's size (``benchmarks/video_motion_sizes.py`` reports the pairs whose warp is kept); an
 #: affine fit gone astray departs by tens of px at any size.
 AFFINE_ASTRAY_SHARE = 0.015
 #: Points per side of the grid at which :func:`local_motion_kernels` gives each frame a kernel
@@ -381,41 +388,116 @@ def path_length(path: np.ndarray) -> float:
 
 
 def calibrate_exposure_share(frames: np.ndarray, shifts: np.ndarray) -> float | None:
-    r"""The exposure share that the frames' blind blur estimates imply, where they are trusted.
+    r"""The exposure share under which the video's blurred frames explain one another.
+
+    Blur commutes: with :math:`b_t = c_t * x_t` and the next frame's sharp image the content
+    moved on, the blurred frames satisfy :math:`c_{t+1} * b_t = c_t * b_{t+1}` once both are
+    moved to one place, whatever the image, for the kernels of the true share s (Rav-Acha and
+    Peleg). The share minimises
 
     .. math::
 
-        \hat{s} = \operatorname{median}_t \; \frac{\hat{L}_t}{\lVert (\Delta_{t-1} +
-        \Delta_t) / 2 \rVert}
+        D(s) = \frac{1}{|P|} \sum_{t \in P} \left\langle
+             \left( c_{t+1}(s) * b_t^{+} - c_t(s) * b_{t+1}^{-} \right)^2
+             - \left( \bar{c}_t(s) * (b_t^{+} - b_{t+1}^{-}) \right)^2 \right\rangle
 
-    over the frames whose length was refined from their sinc zeros
-    (:func:`~blurloc.blur.estimate_motion_blur`, ``fit > 0``) and whose image moves at least
-    CALIBRATION_MIN_MOTION_PX per frame: a straight blur of length L during an exposure share s
-    of a motion of v px per frame has L = s v.
+    with :math:`c_t(s)` the kernels of :func:`exposure_paths` through the displacements of
+    :func:`mid_exposure_shifts`, :math:`b_t^{+}` and :math:`b_{t+1}^{-}` the frames in linear
+    light (gamma 2.2: blur adds light) moved half-way towards each other (exactly, by the shift
+    theorem), :math:`\langle \cdot \rangle` the mean over the pixels away from the frame's
+    border (by the kernels' size and the move), P the pairs and
+    :math:`\bar{c}_t = (c_t + c_{t+1}) / 2`. The second term, the same comparison
+    with one kernel on both sides, holds what a longer kernel lowers whatever the share (noise,
+    parallax, interpolation); the difference keeps what only the two frames' different kernels
+    tell. :math:`D` is evaluated at CALIBRATION_SHARES, then every CALIBRATION_STEP within one
+    of their steps of the best. Pairs whose image moves less than CALIBRATION_MIN_MOTION_PX do
+    not count. Where the kernels are alike (a steady pan) no share is told apart: when the least
+    :math:`D` is not below -CALIBRATION_MIN_DEPTH times the frames' gradient energy (the mean
+    of :math:`\langle |\partial_x b_t|^2 + |\partial_y b_t|^2 \rangle` over the pairs), none
+    is returned.
 
     Parameters
     ----------
     frames : numpy.ndarray
-        (T, H, W[, 3]) frames.
+        (T, H, W[, 3]) frames, uint8 or float in [0, 1].
     shifts : numpy.ndarray
         (T - 1, 2) displacements between them (:func:`frame_shifts`).
 
     Returns
     -------
     float or None
-        The share, or None when no frame qualifies.
+        The share, or None when no pair moves enough or the shares are not told apart.
+
+    Raises
+    ------
+    ValueError
+        If ``shifts`` does not hold one displacement per pair of consecutive frames.
+
+    References
+    ----------
+    Rav-Acha and Peleg, "Two motion-blurred images are better than one", Pattern Recognition
+    Letters 26(3), 2005.
     """
     shifts = np.asarray(shifts, float)
-    padded = np.vstack([shifts[:1], shifts, shifts[-1:]])
-    speed = np.linalg.norm((padded[:-1] + padded[1:]) / 2, axis=1)
-    ratios = []
-    for frame, motion in zip(frames, speed, strict=True):
-        if motion < CALIBRATION_MIN_MOTION_PX:
-            continue
-        estimate = estimate_motion_blur(frame)
-        if estimate.fit > 0:
-            ratios.append(estimate.length_px / motion)
-    return float(np.median(ratios)) if ratios else None
+    if shifts.shape != (len(frames) - 1, 2):
+        raise ValueError(f"shifts must be ({len(frames) - 1}, 2) for {len(frames)} frames, got "
+                         f"{shifts.shape}")  # fmt: skip
+    pairs = np.nonzero(np.linalg.norm(shifts, axis=1) >= CALIBRATION_MIN_MOTION_PX)[0]
+    if len(pairs) == 0:
+        return None
+    linear = [to_gray(srgb_to_linear(as_float_image(frame))).astype(np.float32)
+              for frame in frames]  # fmt: skip
+    spectra = [np.fft.rfft2(image) for image in linear]
+    height, width = linear[0].shape
+    frequencies = np.fft.fftfreq(height)[:, None], np.fft.rfftfreq(width)[None, :]
+    gradient_energy = np.mean([sum(np.mean(np.diff(linear[pair], axis=axis) ** 2)
+                                   for axis in (0, 1)) for pair in pairs])  # fmt: skip
+
+    def difference(share: float) -> float:  # D(s) per pixel and pair; inf where nothing is left
+        steps = mid_exposure_shifts(shifts, share)
+        paths = exposure_paths(steps, share)
+        kernels = {frame: trajectory_kernel(paths[frame], origin=np.zeros(2))
+                   for frame in sorted(set(pairs) | set(pairs + 1))}  # fmt: skip
+        total = 0.0
+        for pair in pairs:
+            first, second = _alike(kernels[pair], kernels[pair + 1])
+            half = steps[pair] / 2
+            margin = first.shape[0] + int(np.ceil(np.abs(half).max())) + 2
+            if 2 * margin >= min(height, width):
+                return np.inf  # paths as long as the frame: nothing left to compare
+            earlier, later = (np.float32(np.fft.irfft2(spectra[frame] * np.exp(
+                -2j * np.pi * sign * (frequencies[0] * half[1] + frequencies[1] * half[0])),
+                s=(height, width))) for frame, sign in ((pair, 1), (pair + 1, -1)))  # fmt: skip
+            inside = np.s_[margin:-margin, margin:-margin]
+            crossed = _blurred(earlier, second) - _blurred(later, first)
+            alike = _blurred(earlier - later, (first + second) / 2)
+            total += np.mean(crossed[inside] ** 2) - np.mean(alike[inside] ** 2)
+        return total / len(pairs)
+
+    coarse = {share: difference(share) for share in CALIBRATION_SHARES}
+    best = min(coarse, key=coarse.get)
+    step = CALIBRATION_SHARES[1] - CALIBRATION_SHARES[0]
+    fine = {
+        share: difference(share)
+        for share in np.round(best + np.arange(-step, step * 1.01, CALIBRATION_STEP), 3)
+        if share > 0
+    }
+    best = min({**coarse, **fine}.items(), key=lambda item: item[1])
+    if not best[1] < -CALIBRATION_MIN_DEPTH * gradient_energy:
+        return None
+    return float(best[0])
+
+
+def _alike(first: np.ndarray, second: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two odd-sided kernels zero-padded about their centres to one square size."""
+    side = max(first.shape + second.shape)
+    return tuple(np.pad(kernel, [((side - own) // 2,) * 2 for own in kernel.shape])
+                 for kernel in (first, second))  # fmt: skip
+
+
+def _blurred(image: np.ndarray, kernel: np.ndarray) -> np.ndarray:
+    """``image`` convolved with ``kernel`` (mirrored at the border)."""
+    return cv2.filter2D(image, -1, np.float32(kernel[::-1, ::-1]), borderType=cv2.BORDER_REFLECT)
 
 
 @dataclass(frozen=True)
@@ -440,8 +522,8 @@ def video_motion_kernels(
         (T, H, W[, 3]) consecutive frames, T >= 2.
     exposure_share : float or None
         Exposure time over frame interval (default DEFAULT_EXPOSURE_SHARE); None calibrates it
-        on the frames (:func:`calibrate_exposure_share`, DEFAULT_EXPOSURE_SHARE where no frame
-        qualifies).
+        on the frames (:func:`calibrate_exposure_share`, DEFAULT_EXPOSURE_SHARE where it
+        returns none).
 
     Returns
     -------
@@ -497,8 +579,8 @@ def local_motion_kernels(
         (T, H, W[, 3]) consecutive frames, T >= 2.
     exposure_share : float or None
         Exposure time over frame interval (default DEFAULT_EXPOSURE_SHARE); None calibrates it
-        on the frames (:func:`calibrate_exposure_share`, DEFAULT_EXPOSURE_SHARE where no frame
-        qualifies).
+        on the frames (:func:`calibrate_exposure_share`, DEFAULT_EXPOSURE_SHARE where it
+        returns none).
     grid : int
         Points per side of the grid (:func:`grid_points`), >= 1; 1 measures one translation.
 
