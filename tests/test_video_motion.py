@@ -305,16 +305,22 @@ def test_a_kernel_larger_than_the_frame_passes_through() -> None:
     np.testing.assert_array_equal(deblur_video_motion(frames), frames)
 
 
-def test_the_photo_videos_true_paths_are_the_blur_that_made_them() -> None:
+@pytest.mark.parametrize("exposure", [None, 5, 17])
+def test_the_photo_videos_true_paths_are_the_blur_that_made_them(exposure: int | None) -> None:
     """Convolving a sharp frame in linear light with the kernel of its true exposure path gives
     the blurred frame (up to the interpolation of the sub-frames); a path turned by 90 degrees
-    does not. The middle sub-frames' positions move as frame_shifts measures."""
+    does not; so also with 5 or 17 of every 9 sub-frames' time exposed. The middle sub-frames'
+    positions move as frame_shifts measures; an even exposure has no middle and is refused."""
     step, angle = 1.0, 20.0
     blurred, sharp = photo_video(skimage.data.coffee(), frames=4, step_px=step,
-                                 angle_deg=angle, noise_sigma=0.0, seed=1)  # fmt: skip
-    positions = photo_video_motion(4, 9, step, angle)
-    assert positions.shape == (4, 9, 2)
-    middle = positions[:, 4]
+                                 angle_deg=angle, noise_sigma=0.0, seed=1,
+                                 exposure_subframes=exposure)  # fmt: skip
+    positions = photo_video_motion(4, 9, step, angle, exposure)
+    assert positions.shape == (4, exposure or 9, 2)
+    middle = positions[:, (exposure or 9) // 2]
+    np.testing.assert_array_equal(middle, photo_video_motion(4, 9, step, angle)[:, 4])
+    with pytest.raises(ValueError, match="odd"):
+        photo_video(skimage.data.coffee(), frames=2, exposure_subframes=4)
     np.testing.assert_allclose(frame_shifts(sharp), np.diff(middle, axis=0), atol=0.3)
     inner = np.s_[16:-16, 16:-16]  # away from the content the pan brings in
     for frame in range(4):

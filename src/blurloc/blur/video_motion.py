@@ -48,6 +48,10 @@ CALIBRATION_MIN_MOTION_PX = 1.0
 #: the shares it tries, then those within one step of the best every CALIBRATION_STEP,
 CALIBRATION_SHARES = np.round(np.arange(0.2, 3.01, 0.2), 2)
 CALIBRATION_STEP = 0.05
+#: the weight of the comparison with one kernel on both sides that it subtracts (chosen on
+#: GoPro-style videos of training photographs, exposure share 1, where 0 reads the share long
+#: and 1 short),
+CALIBRATION_ALIKE_WEIGHT = 0.75
 #: and how far below zero its least difference must lie, as a share of the frames' gradient
 #: energy, to tell the shares apart (a steady pan, whose frames share one kernel, stays near 0).
 CALIBRATION_MIN_DEPTH = 0.01
@@ -399,22 +403,24 @@ def calibrate_exposure_share(frames: np.ndarray, shifts: np.ndarray) -> float | 
 
         D(s) = \frac{1}{|P|} \sum_{t \in P} \left\langle
              \left( c_{t+1}(s) * b_t^{+} - c_t(s) * b_{t+1}^{-} \right)^2
-             - \left( \bar{c}_t(s) * (b_t^{+} - b_{t+1}^{-}) \right)^2 \right\rangle
+             - w \left( \bar{c}_t(s) * (b_t^{+} - b_{t+1}^{-}) \right)^2 \right\rangle
 
-    with :math:`c_t(s)` the kernels of :func:`exposure_paths` through the displacements of
-    :func:`mid_exposure_shifts`, :math:`b_t^{+}` and :math:`b_{t+1}^{-}` the frames in linear
-    light (gamma 2.2: blur adds light) moved half-way towards each other (exactly, by the shift
-    theorem), :math:`\langle \cdot \rangle` the mean over the pixels away from the frame's
-    border (by the kernels' size and the move), P the pairs and
-    :math:`\bar{c}_t = (c_t + c_{t+1}) / 2`. The second term, the same comparison
-    with one kernel on both sides, holds what a longer kernel lowers whatever the share (noise,
-    parallax, interpolation); the difference keeps what only the two frames' different kernels
-    tell. :math:`D` is evaluated at CALIBRATION_SHARES, then every CALIBRATION_STEP within one
-    of their steps of the best. Pairs whose image moves less than CALIBRATION_MIN_MOTION_PX do
-    not count. Where the kernels are alike (a steady pan) no share is told apart: when the least
-    :math:`D` is not below -CALIBRATION_MIN_DEPTH times the frames' gradient energy (the mean
-    of :math:`\langle |\partial_x b_t|^2 + |\partial_y b_t|^2 \rangle` over the pairs), none
-    is returned.
+    with :math:`c_t(s)` the kernels of the paths of :func:`exposure_paths` through the
+    displacements of :func:`mid_exposure_shifts`, each centred on its centroid;
+    :math:`b_t^{+}` and :math:`b_{t+1}^{-}` the frames in linear light (gamma 2.2: blur adds
+    light) moved half-way towards each other by the measured displacement (blurred frames align
+    at their blurs' centroids), exactly, by the shift theorem; :math:`\langle \cdot \rangle`
+    the mean over the pixels away from the frame's border (by the kernels' size and the move);
+    P the pairs, :math:`\bar{c}_t = (c_t + c_{t+1}) / 2` and w = CALIBRATION_ALIKE_WEIGHT.
+    The second term, the same comparison with one kernel on both sides, holds what a longer
+    kernel lowers whatever the share (noise, parallax, interpolation); the difference keeps
+    what only the two frames' different kernels tell. :math:`D` is evaluated at
+    CALIBRATION_SHARES, then every CALIBRATION_STEP within one of their steps of the best.
+    Pairs whose image moves less than CALIBRATION_MIN_MOTION_PX do not count. Where the
+    kernels are alike (a steady pan) no share is told apart: when the least :math:`D` is not
+    below -CALIBRATION_MIN_DEPTH times the frames' gradient energy (the mean of
+    :math:`\langle |\partial_x b_t|^2 + |\partial_y b_t|^2 \rangle` over the pairs), none is
+    returned.
 
     Parameters
     ----------
@@ -447,31 +453,34 @@ def calibrate_exposure_share(frames: np.ndarray, shifts: np.ndarray) -> float | 
         return None
     linear = [to_gray(srgb_to_linear(as_float_image(frame))).astype(np.float32)
               for frame in frames]  # fmt: skip
-    spectra = [np.fft.rfft2(image) for image in linear]
     height, width = linear[0].shape
     frequencies = np.fft.fftfreq(height)[:, None], np.fft.rfftfreq(width)[None, :]
+    moved = {}  # each pair's frames moved half-way towards each other by the measured shift
+    for pair in pairs:
+        half = shifts[pair] / 2
+        moved[pair] = [np.float32(np.fft.irfft2(np.fft.rfft2(linear[frame]) * np.exp(
+            -2j * np.pi * sign * (frequencies[0] * half[1] + frequencies[1] * half[0])),
+            s=(height, width))) for frame, sign in ((pair, 1), (pair + 1, -1))]  # fmt: skip
     gradient_energy = np.mean([sum(np.mean(np.diff(linear[pair], axis=axis) ** 2)
                                    for axis in (0, 1)) for pair in pairs])  # fmt: skip
 
     def difference(share: float) -> float:  # D(s) per pixel and pair; inf where nothing is left
-        steps = mid_exposure_shifts(shifts, share)
-        paths = exposure_paths(steps, share)
-        kernels = {frame: trajectory_kernel(paths[frame], origin=np.zeros(2))
+        paths = exposure_paths(mid_exposure_shifts(shifts, share), share)
+        kernels = {frame: trajectory_kernel(paths[frame], origin=paths[frame].mean(axis=0))
                    for frame in sorted(set(pairs) | set(pairs + 1))}  # fmt: skip
         total = 0.0
         for pair in pairs:
             first, second = _alike(kernels[pair], kernels[pair + 1])
-            half = steps[pair] / 2
-            margin = first.shape[0] + int(np.ceil(np.abs(half).max())) + 2
+            margin = first.shape[0] + int(np.ceil(np.abs(shifts[pair]).max() / 2)) + 2
             if 2 * margin >= min(height, width):
                 return np.inf  # paths as long as the frame: nothing left to compare
-            earlier, later = (np.float32(np.fft.irfft2(spectra[frame] * np.exp(
-                -2j * np.pi * sign * (frequencies[0] * half[1] + frequencies[1] * half[0])),
-                s=(height, width))) for frame, sign in ((pair, 1), (pair + 1, -1)))  # fmt: skip
+            earlier, later = moved[pair]
             inside = np.s_[margin:-margin, margin:-margin]
             crossed = _blurred(earlier, second) - _blurred(later, first)
             alike = _blurred(earlier - later, (first + second) / 2)
-            total += np.mean(crossed[inside] ** 2) - np.mean(alike[inside] ** 2)
+            total += np.mean(crossed[inside] ** 2) - CALIBRATION_ALIKE_WEIGHT * np.mean(
+                alike[inside] ** 2
+            )
         return total / len(pairs)
 
     coarse = {share: difference(share) for share in CALIBRATION_SHARES}

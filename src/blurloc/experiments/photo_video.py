@@ -36,12 +36,17 @@ def photo_video(
     seed: int = 0,
     roll_deg: float = 0.0,
     zoom: float = 0.0,
+    exposure_subframes: int | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """A blurred video made the GoPro way from a still photograph.
 
     A virtual high-frame-rate camera pans over ``photo`` (with a small wobble); each stored
     frame is the mean of ``subframes`` consecutive sub-frames in linear light (gamma 2.2) plus
-    noise, its sharp frame the middle sub-frame. With ``roll_deg`` or ``zoom`` the camera also
+    noise, its sharp frame the middle sub-frame. With ``exposure_subframes`` a stored frame
+    averages that many sub-frames about its middle one instead, while frames stay ``subframes``
+    sub-frames apart: an exposure share of ``exposure_subframes / subframes`` (5 of 9: about a
+    180° shutter; above ``subframes`` an exposure longer than the frame interval, as the
+    stand-in renders). With ``roll_deg`` or ``zoom`` the camera also
     turns about its optical axis, or moves towards the photograph, by that much per sub-frame
     (sub-frame n of the video is turned by n ``roll_deg`` and magnified by 1 + n ``zoom`` about
     the frame's centre): the image then moves differently in different parts of the frame, as
@@ -72,6 +77,8 @@ def photo_video(
     zoom : float
         Relative magnification per sub-frame (0.003: 0.3 % larger each sub-frame), > -1 /
         (frames x subframes - 1).
+    exposure_subframes : int, optional
+        Sub-frames averaged into each stored frame, odd (default ``subframes``).
 
     Returns
     -------
@@ -81,6 +88,9 @@ def photo_video(
     photo = as_float_image(photo)
     if photo.ndim != 3 or frames < 1 or subframes < 1:
         raise ValueError("photo must be RGB; frames and subframes must be positive")
+    exposure = subframes if exposure_subframes is None else exposure_subframes
+    if exposure_subframes is not None and (exposure < 1 or exposure % 2 == 0):
+        raise ValueError(f"exposure_subframes must be odd and positive, got {exposure}")
     if not 1.0 + zoom * (frames * subframes - 1) > 0:
         raise ValueError(f"zoom {zoom} shrinks the last sub-frames to nothing: it must be > "
                          f"-1 / {frames * subframes - 1}")  # fmt: skip
@@ -88,16 +98,16 @@ def photo_video(
     scale = 2  # sub-frames are rendered at twice the output size, then area-averaged down
     linear = srgb_to_linear(cv2.resize(np.float32(photo), (3 * width * scale, 3 * height * scale),
                                        interpolation=cv2.INTER_AREA))  # fmt: skip
-    positions = photo_video_motion(frames, subframes, step_px, angle_deg)
+    positions = photo_video_motion(frames, subframes, step_px, angle_deg, exposure)
     rng = np.random.default_rng(seed)
     blurred, sharp = [], []
     for frame in range(frames):
         views = []
-        for sub in range(subframes):
+        for sub in range(exposure):
             origin = (np.array([width, height]) - positions[frame, sub]) * scale  # view moves
             matrix = np.float32([[1, 0, -origin[0]], [0, 1, -origin[1]]])
             if roll_deg or zoom:  # then turn and magnify about the frame's centre
-                count = frame * subframes + sub
+                count = frame * subframes + subframes // 2 - exposure // 2 + sub
                 turn = cv2.getRotationMatrix2D((width * scale / 2, height * scale / 2),
                                                roll_deg * count, 1.0 + zoom * count)  # fmt: skip
                 matrix = np.float32(
@@ -109,12 +119,16 @@ def photo_video(
             views.append(cv2.resize(view, size, interpolation=cv2.INTER_AREA))
         noise = rng.normal(0, noise_sigma, views[0].shape)
         blurred.append(to_uint8(np.mean(views, axis=0), noise))
-        sharp.append(to_uint8(views[subframes // 2]))
+        sharp.append(to_uint8(views[exposure // 2]))
     return np.stack(blurred), np.stack(sharp)
 
 
 def photo_video_motion(
-    frames: int, subframes: int = 9, step_px: float = 1.0, angle_deg: float = 0.0
+    frames: int,
+    subframes: int = 9,
+    step_px: float = 1.0,
+    angle_deg: float = 0.0,
+    exposure_subframes: int | None = None,
 ) -> np.ndarray:
     r"""Where the photograph's content lies in every sub-frame of :func:`photo_video`.
 
@@ -140,16 +154,21 @@ def photo_video_motion(
         Pan per sub-frame, px.
     angle_deg : float
         Pan direction, degrees.
+    exposure_subframes : int, optional
+        Sub-frames averaged into each stored frame, about its middle one (default
+        ``subframes``: sub-frames ``frame * subframes`` to ``frame * subframes + subframes - 1``).
 
     Returns
     -------
     numpy.ndarray
-        (frames, subframes, 2) content positions, px.
+        (frames, exposure_subframes, 2) content positions, px.
     """
-    time = np.arange(frames * subframes, dtype=float)[:, None]
+    exposure = subframes if exposure_subframes is None else exposure_subframes
+    first = np.arange(frames) * subframes + subframes // 2 - exposure // 2
+    time = (first[:, None] + np.arange(exposure)[None, :]).astype(float).ravel()
     direction = np.array([np.cos(np.radians(angle_deg)), np.sin(np.radians(angle_deg))])
-    wobble = 1.5 * np.column_stack([np.sin(time[:, 0] / 7), np.cos(time[:, 0] / 5)])
-    return -(step_px * time * direction + wobble).reshape(frames, subframes, 2)
+    wobble = 1.5 * np.column_stack([np.sin(time / 7), np.cos(time / 5)])
+    return -(step_px * time[:, None] * direction + wobble).reshape(frames, exposure, 2)
 
 
 def restoration_psnr(
@@ -181,6 +200,7 @@ def photo_video_gains(
     noise_sigma: float = 0.01,
     roll_deg: float = 0.0,
     zoom: float = 0.0,
+    exposure_subframes: int | None = None,
 ) -> list[dict]:
     """PSNR gain of a video restorer on the photo-video set, one row per video.
 
@@ -200,6 +220,8 @@ def photo_video_gains(
     roll_deg, zoom : float
         The camera's turn about its optical axis and magnification per sub-frame
         (:func:`photo_video`).
+    exposure_subframes : int, optional
+        Sub-frames averaged into each frame (:func:`photo_video`; default 9, all of them).
 
     Returns
     -------
@@ -208,7 +230,7 @@ def photo_video_gains(
         (mean PSNR over the frames, eq. 6, against the sharp middle sub-frames).
     """
     rows = []
-    for video in photo_video_set(frames, noise_sigma, roll_deg, zoom):
+    for video in photo_video_set(frames, noise_sigma, roll_deg, zoom, exposure_subframes):
         before, after = restoration_psnr(restore, video.blurred, video.sharp)
         rows.append({"photo": video.photo, "step_px": video.step_px, "blurred_psnr_db": before,
                      "restored_psnr_db": after, "gain_db": after - before})  # fmt: skip
@@ -228,7 +250,11 @@ class PhotoVideo:
 
 
 def photo_video_set(
-    frames: int = 8, noise_sigma: float = 0.01, roll_deg: float = 0.0, zoom: float = 0.0
+    frames: int = 8,
+    noise_sigma: float = 0.01,
+    roll_deg: float = 0.0,
+    zoom: float = 0.0,
+    exposure_subframes: int | None = None,
 ) -> Iterator[PhotoVideo]:
     """The photo-video set, one video at a time.
 
@@ -247,6 +273,8 @@ def photo_video_set(
         The camera's turn about its optical axis and magnification per sub-frame
         (:func:`photo_video`; with either, :func:`photo_video_motion` gives the pan before
         them).
+    exposure_subframes : int, optional
+        Sub-frames averaged into each frame (:func:`photo_video`; default 9, all of them).
 
     Yields
     ------
@@ -258,7 +286,8 @@ def photo_video_set(
         for step in PHOTO_VIDEO_SPEEDS:
             blurred, sharp = photo_video(image, frames, step_px=step, angle_deg=angle,
                                          noise_sigma=noise_sigma, seed=index,
-                                         roll_deg=roll_deg, zoom=zoom)  # fmt: skip
+                                         roll_deg=roll_deg, zoom=zoom,
+                                         exposure_subframes=exposure_subframes)  # fmt: skip
             yield PhotoVideo(photo, step, angle, blurred, sharp)
 
 
