@@ -251,6 +251,11 @@ def test_deblur_video_cli_restores_a_folder_with_the_motion_method(
                        for i in range(4)])  # fmt: skip
     np.testing.assert_array_equal(mirror, deblur_video_motion(blurred, grid=1, boundary="mirror"))
     assert not np.array_equal(mirror, one)
+    assert main(["deblur-video", str(folder), str(tmp_path / "read"), "--method", "motion",
+                 "--grid", "1", "--calibrate-exposure"]) == 0  # fmt: skip
+    read = np.stack([cv2.imread(str(tmp_path / "read" / f"frame-{i:03d}.png"))[..., ::-1]
+                     for i in range(4)])  # fmt: skip
+    np.testing.assert_array_equal(read, deblur_video_motion(blurred, None, grid=1))
     capsys.readouterr()
     for wrong, message in (
         (["--method", "motion", "--exposure-share", "0"], "must be > 0"),
@@ -259,6 +264,8 @@ def test_deblur_video_cli_restores_a_folder_with_the_motion_method(
         (["--method", "motion", "--grid", "0"], "--grid must be >= 1"),
         (["--grid", "2"], "--grid is for --method motion"),
         (["--boundary", "mirror"], "--boundary is for --method motion"),
+        (["--calibrate-exposure"], "--calibrate-exposure is for --method motion"),
+        (["--method", "motion", "--calibrate-exposure", "--exposure-share", "1"], "not both"),
     ):
         assert main(["deblur-video", str(folder), str(tmp_path / "o2"), *wrong]) == 1
         assert message in capsys.readouterr().err

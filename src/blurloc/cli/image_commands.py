@@ -192,6 +192,11 @@ def _deblur_video(args: argparse.Namespace) -> int:
         raise ValueError("--exposure-share is for --method motion")
     if args.exposure_share is not None and not args.exposure_share > 0:
         raise ValueError(f"--exposure-share must be > 0, got {args.exposure_share}")
+    if args.calibrate_exposure and args.method != "motion":
+        raise ValueError("--calibrate-exposure is for --method motion")
+    if args.calibrate_exposure and args.exposure_share is not None:
+        raise ValueError("--calibrate-exposure reads the share from the video: give it or "
+                         "--exposure-share, not both")  # fmt: skip
     if args.grid is not None and args.method != "motion":
         raise ValueError("--grid is for --method motion")
     if args.grid is not None and args.grid < 1:
@@ -217,6 +222,8 @@ def _deblur_video(args: argparse.Namespace) -> int:
         given = {"exposure_share": args.exposure_share, "grid": args.grid,
                  "boundary": args.boundary}  # fmt: skip
         options = {name: value for name, value in given.items() if value is not None}
+        if args.calibrate_exposure:
+            options["exposure_share"] = None  # read from the video
         restored = deblur_video_motion(np.stack(list(read_frames(paths))), **options)
     else:
         restored = restore_frames(model, read_frames(paths))  # streamed: one chunk at a time
@@ -302,6 +309,10 @@ def add_deblur_video_parser(commands: argparse._SubParsersAction) -> None:
                        help="with --method motion: exposure time over frame interval (default: "
                             "that of frames averaged the GoPro way; 0.5 for a 180-degree "
                             "shutter)")  # fmt: skip
+    video.add_argument("--calibrate-exposure", action="store_true",
+                       help="with --method motion: read the exposure share from the video, "
+                            "where its frames' blurs differ (blur.calibrate_exposure_share; the "
+                            "default share where they are too alike to tell)")  # fmt: skip
     video.add_argument("--grid", type=int,
                        help="with --method motion: kernels per side of a grid over each frame, "
                             "for a camera that turns about its optical axis or moves along it "
