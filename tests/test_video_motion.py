@@ -12,6 +12,7 @@ from blurloc.blur.video_motion import (
     MAX_CORRECTED_SHARE,
     calibrate_exposure_share,
     exposure_paths,
+    fit_exposure_share,
     frame_shifts,
     frame_warps,
     grid_points,
@@ -163,6 +164,8 @@ def test_the_exposure_share_is_read_from_frames_whose_blur_changes(share: float)
     assert calibrate_exposure_share(steady, frame_shifts(steady)) is None
     with pytest.raises(ValueError, match="shifts must be"):
         calibrate_exposure_share(blurred, np.zeros((3, 2)))
+    with pytest.raises(ValueError, match="alike_weight"):
+        fit_exposure_share(blurred, frame_shifts(blurred), alike_weight=-1.0)
 
 
 def test_a_still_video_has_no_blur_and_is_returned_unchanged() -> None:

@@ -48,13 +48,14 @@ CALIBRATION_MIN_MOTION_PX = 1.0
 #: the shares it tries, then those within one step of the best every CALIBRATION_STEP,
 CALIBRATION_SHARES = np.round(np.arange(0.2, 3.01, 0.2), 2)
 CALIBRATION_STEP = 0.05
-#: the weight of the comparison with one kernel on both sides that it subtracts (chosen on
-#: GoPro-style videos of training photographs, exposure share 1, where 0 reads the share long
-#: and 1 short),
+#: the weight of the comparison with one kernel on both sides that it subtracts (0 reads the
+#: share long, 1 short),
 CALIBRATION_ALIKE_WEIGHT = 0.75
 #: and how far below zero its least difference must lie, as a share of the frames' gradient
-#: energy, to tell the shares apart (a steady pan, whose frames share one kernel, stays near 0).
-CALIBRATION_MIN_DEPTH = 0.01
+#: energy, to tell the shares apart (a steady pan, whose frames share one kernel, stays at or
+#: above 0). Both chosen on GoPro-style videos of training photographs exposed 5, 9 or 17 of
+#: every 9 sub-frames (``benchmarks/choose_exposure_calibration.py``).
+CALIBRATION_MIN_DEPTH = 0.0003
 #: Refinement of the displacement between frames by ECC (:func:`frame_shifts`): at most this
 #: many iterations,
 ECC_ITERATIONS = 30
@@ -391,8 +392,50 @@ def path_length(path: np.ndarray) -> float:
     return float(np.linalg.norm(np.diff(np.asarray(path, float), axis=0), axis=1).sum())
 
 
-def calibrate_exposure_share(frames: np.ndarray, shifts: np.ndarray) -> float | None:
-    r"""The exposure share under which the video's blurred frames explain one another.
+def calibrate_exposure_share(
+    frames: np.ndarray, shifts: np.ndarray, min_depth: float = CALIBRATION_MIN_DEPTH
+) -> float | None:
+    """The exposure share read from the video (:func:`fit_exposure_share`), where it is told
+    apart: its depth above ``min_depth``.
+
+    Parameters
+    ----------
+    frames : numpy.ndarray
+        (T, H, W[, 3]) frames, uint8 or float in [0, 1].
+    shifts : numpy.ndarray
+        (T - 1, 2) displacements between them (:func:`frame_shifts`).
+    min_depth : float
+        The least depth at which the share is returned (default CALIBRATION_MIN_DEPTH).
+
+    Returns
+    -------
+    float or None
+        The share, or None when no pair moves enough or the depth is not above ``min_depth``
+        (a steady pan, whose frames share one kernel).
+
+    Raises
+    ------
+    ValueError
+        If ``shifts`` does not hold one displacement per pair of consecutive frames.
+    """
+    fit = fit_exposure_share(frames, shifts)
+    return fit.share if fit is not None and fit.depth > min_depth else None
+
+
+@dataclass(frozen=True)
+class ExposureFit:
+    """The exposure share that best explains a video's frames by one another (``share``) and
+    how clearly (``depth``: :func:`fit_exposure_share`)."""
+
+    share: float
+    depth: float
+
+
+def fit_exposure_share(
+    frames: np.ndarray, shifts: np.ndarray, alike_weight: float = CALIBRATION_ALIKE_WEIGHT
+) -> ExposureFit | None:
+    r"""The exposure share under which the video's blurred frames explain one another best, and
+    how clearly.
 
     Blur commutes: with :math:`b_t = c_t * x_t` and the next frame's sharp image the content
     moved on, the blurred frames satisfy :math:`c_{t+1} * b_t = c_t * b_{t+1}` once both are
@@ -411,16 +454,16 @@ def calibrate_exposure_share(frames: np.ndarray, shifts: np.ndarray) -> float | 
     light) moved half-way towards each other by the measured displacement (blurred frames align
     at their blurs' centroids), exactly, by the shift theorem; :math:`\langle \cdot \rangle`
     the mean over the pixels away from the frame's border (by the kernels' size and the move);
-    P the pairs, :math:`\bar{c}_t = (c_t + c_{t+1}) / 2` and w = CALIBRATION_ALIKE_WEIGHT.
+    P the pairs, :math:`\bar{c}_t = (c_t + c_{t+1}) / 2` and w = ``alike_weight``.
     The second term, the same comparison with one kernel on both sides, holds what a longer
     kernel lowers whatever the share (noise, parallax, interpolation); the difference keeps
     what only the two frames' different kernels tell. :math:`D` is evaluated at
     CALIBRATION_SHARES, then every CALIBRATION_STEP within one of their steps of the best.
-    Pairs whose image moves less than CALIBRATION_MIN_MOTION_PX do not count. Where the
-    kernels are alike (a steady pan) no share is told apart: when the least :math:`D` is not
-    below -CALIBRATION_MIN_DEPTH times the frames' gradient energy (the mean of
-    :math:`\langle |\partial_x b_t|^2 + |\partial_y b_t|^2 \rangle` over the pairs), none is
-    returned.
+    Pairs whose image moves less than CALIBRATION_MIN_MOTION_PX do not count. How clearly the
+    share is told apart is its depth, :math:`-D / G` at the best share, with G the frames'
+    gradient energy (the mean of :math:`\langle |\partial_x b_t|^2 + |\partial_y b_t|^2
+    \rangle` over the pairs): where the kernels are alike (a steady pan) D is not below 0
+    (for w <= 1).
 
     Parameters
     ----------
@@ -428,16 +471,19 @@ def calibrate_exposure_share(frames: np.ndarray, shifts: np.ndarray) -> float | 
         (T, H, W[, 3]) frames, uint8 or float in [0, 1].
     shifts : numpy.ndarray
         (T - 1, 2) displacements between them (:func:`frame_shifts`).
+    alike_weight : float
+        w, >= 0 (default CALIBRATION_ALIKE_WEIGHT).
 
     Returns
     -------
-    float or None
-        The share, or None when no pair moves enough or the shares are not told apart.
+    ExposureFit or None
+        The best share and its depth, or None when no pair moves enough.
 
     Raises
     ------
     ValueError
-        If ``shifts`` does not hold one displacement per pair of consecutive frames.
+        If ``shifts`` does not hold one displacement per pair of consecutive frames or
+        ``alike_weight`` is negative.
 
     References
     ----------
@@ -448,6 +494,8 @@ def calibrate_exposure_share(frames: np.ndarray, shifts: np.ndarray) -> float | 
     if shifts.shape != (len(frames) - 1, 2):
         raise ValueError(f"shifts must be ({len(frames) - 1}, 2) for {len(frames)} frames, got "
                          f"{shifts.shape}")  # fmt: skip
+    if not alike_weight >= 0:
+        raise ValueError(f"alike_weight must be >= 0, got {alike_weight}")
     pairs = np.nonzero(np.linalg.norm(shifts, axis=1) >= CALIBRATION_MIN_MOTION_PX)[0]
     if len(pairs) == 0:
         return None
@@ -478,9 +526,7 @@ def calibrate_exposure_share(frames: np.ndarray, shifts: np.ndarray) -> float | 
             inside = np.s_[margin:-margin, margin:-margin]
             crossed = _blurred(earlier, second) - _blurred(later, first)
             alike = _blurred(earlier - later, (first + second) / 2)
-            total += np.mean(crossed[inside] ** 2) - CALIBRATION_ALIKE_WEIGHT * np.mean(
-                alike[inside] ** 2
-            )
+            total += np.mean(crossed[inside] ** 2) - alike_weight * np.mean(alike[inside] ** 2)
         return total / len(pairs)
 
     coarse = {share: difference(share) for share in CALIBRATION_SHARES}
@@ -491,10 +537,8 @@ def calibrate_exposure_share(frames: np.ndarray, shifts: np.ndarray) -> float | 
         for share in np.round(best + np.arange(-step, step * 1.01, CALIBRATION_STEP), 3)
         if share > 0
     }
-    best = min({**coarse, **fine}.items(), key=lambda item: item[1])
-    if not best[1] < -CALIBRATION_MIN_DEPTH * gradient_energy:
-        return None
-    return float(best[0])
+    share, least = min({**coarse, **fine}.items(), key=lambda item: item[1])
+    return ExposureFit(share=float(share), depth=float(-least / gradient_energy))
 
 
 def _alike(first: np.ndarray, second: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -299,6 +299,7 @@ def photo_training_videos(
     noise_sigma: float = 0.01,
     roll_deg: float = 0.0,
     zoom: float = 0.0,
+    exposure_subframes: int | None = None,
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """Blurred videos with their sharp frames, made the GoPro way (:func:`photo_video`) from
     photographs, for training a video deblurrer on natural image content.
@@ -329,6 +330,8 @@ def photo_training_videos(
     roll_deg, zoom : float
         The camera's turn about its optical axis and magnification per sub-frame
         (:func:`photo_video`; default none: pans only).
+    exposure_subframes : int, optional
+        Sub-frames averaged into each frame (:func:`photo_video`; default 9, all of them).
 
     Returns
     -------
@@ -344,7 +347,8 @@ def photo_training_videos(
     if frames < 1:
         raise ValueError(f"frames must be positive, got {frames}")
     return [photo_video(photo, frames, step_px=step, angle_deg=angle, noise_sigma=noise_sigma,
-                        seed=noise_seed, roll_deg=roll_deg, zoom=zoom)
+                        seed=noise_seed, roll_deg=roll_deg, zoom=zoom,
+                        exposure_subframes=exposure_subframes)
             for photo, step, angle, noise_seed in _training_pans(count, seed, photos)]  # fmt: skip
 
 
