@@ -40,19 +40,19 @@ def photo_video(
 ) -> tuple[np.ndarray, np.ndarray]:
     """A blurred video made the GoPro way from a still photograph.
 
-    A virtual high-frame-rate camera pans over ``photo`` (with a small wobble); each stored
-    frame is the mean of ``subframes`` consecutive sub-frames in linear light (gamma 2.2) plus
-    noise, its sharp frame the middle sub-frame. With ``exposure_subframes`` a stored frame
-    averages that many sub-frames about its middle one instead, while frames stay ``subframes``
-    sub-frames apart: an exposure share of ``exposure_subframes / subframes`` (5 of 9: about a
-    180° shutter; above ``subframes`` an exposure longer than the frame interval, as the
-    stand-in renders). With ``roll_deg`` or ``zoom`` the camera also
-    turns about its optical axis, or moves towards the photograph, by that much per sub-frame
-    (sub-frame n of the video is turned by n ``roll_deg`` and magnified by 1 + n ``zoom`` about
-    the frame's centre): the image then moves differently in different parts of the frame, as
-    it does in real footage, and :func:`photo_video_motion` gives the pan before the turn and
-    magnification: the content at the frame's centre in sub-frame n moves on to sub-frame m by
-    the pan's step :math:`p_m - p_n` turned by m ``roll_deg`` and magnified by 1 + m ``zoom``.
+    A virtual high-frame-rate camera pans over ``photo`` (with a small wobble); each stored frame is
+    the mean of ``subframes`` consecutive sub-frames in linear light (gamma 2.2) plus noise, its
+    sharp frame the middle sub-frame. With ``exposure_subframes`` a stored frame averages that many
+    sub-frames about its middle one instead, while frames stay ``subframes`` sub-frames apart: an
+    exposure share of ``exposure_subframes / subframes`` (5 of 9: about a 180° shutter; above
+    ``subframes`` an exposure longer than the frame interval, as the stand-in renders). With
+    ``roll_deg`` or ``zoom`` the camera also turns about its optical axis, or moves towards the
+    photograph, by that much per sub-frame (sub-frame n of the video is turned by n ``roll_deg`` and
+    magnified by 1 + n ``zoom`` about the frame's centre): the image then moves differently in
+    different parts of the frame, as it does in real footage, and :func:`photo_video_motion` gives
+    the pan before the turn and magnification: the content at the frame's centre in sub-frame n
+    moves on to sub-frame m by the pan's step :math:`p_m - p_n` turned by m ``roll_deg`` and
+    magnified by 1 + m ``zoom``.
 
     Parameters
     ----------
@@ -200,7 +200,6 @@ def photo_video_gains(
     noise_sigma: float = 0.01,
     roll_deg: float = 0.0,
     zoom: float = 0.0,
-    exposure_subframes: int | None = None,
 ) -> list[dict]:
     """PSNR gain of a video restorer on the photo-video set, one row per video.
 
@@ -220,8 +219,6 @@ def photo_video_gains(
     roll_deg, zoom : float
         The camera's turn about its optical axis and magnification per sub-frame
         (:func:`photo_video`).
-    exposure_subframes : int, optional
-        Sub-frames averaged into each frame (:func:`photo_video`; default 9, all of them).
 
     Returns
     -------
@@ -230,7 +227,7 @@ def photo_video_gains(
         (mean PSNR over the frames, eq. 6, against the sharp middle sub-frames).
     """
     rows = []
-    for video in photo_video_set(frames, noise_sigma, roll_deg, zoom, exposure_subframes):
+    for video in photo_video_set(frames, noise_sigma, roll_deg, zoom):
         before, after = restoration_psnr(restore, video.blurred, video.sharp)
         rows.append({"photo": video.photo, "step_px": video.step_px, "blurred_psnr_db": before,
                      "restored_psnr_db": after, "gain_db": after - before})  # fmt: skip
