@@ -111,11 +111,12 @@ def main() -> None:
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_bytes(git_bytes(git_dir, entry.commit, entry.source_path))
         print(f"wrote {target}", flush=True)
-    written = [e for e in entries if e.part in ("posed", "recording") and e.commit]
-    if written:
-        git_dir = repository(written[0].source_repository, written[0].commit, args.repositories,
+    from_recording = [e for e in entries if e.part in ("posed", "recording") and e.commit]
+    if from_recording:
+        recording = from_recording[0]
+        git_dir = repository(recording.source_repository, recording.commit, args.repositories,
                              args.work, blobs=True)  # fmt: skip
-        source = recording_source(git_dir, written[0].commit, args.work)
+        source = recording_source(git_dir, recording.commit, args.work)
     if "posed" in args.parts:
         subprocess.run([sys.executable, str(HERE / "make_posed.py"), str(source),
                         str(posed_root(args.out) / POSED_SCENE), "--start", POSED_START_STAMP,
