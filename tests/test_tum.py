@@ -19,7 +19,7 @@ GROUND_TRUTH = next(path for path in tum_files() if "fr1_rpy" in path.name)
 needs_files = pytest.mark.skipif(
     not GROUND_TRUTH.is_file() or not (posed_root() / POSED_SCENE).is_dir(),
     reason="the development set's TUM files or posed frames (which these tests read) are not "
-    "present",
+    "present: python samples/real/fetch.py --parts tum posed",
 )
 
 
