@@ -10,7 +10,8 @@ turning about its optical axis by 0.3 degrees per sub-frame) with a 3 x 3 grid o
 (``grid``; as shipped, a frame whose kernels agree restored once with one of them,
 ``agreement``: ``AGREEMENT_L1``, with the image beyond the frame unknown, the default with 10
 conjugate-gradient steps, and with mirror boundaries, ``boundary``; ``off``: every frame by its
-grid, unknown boundaries only) and with one kernel per frame (both boundaries), and reports
+grid, unknown boundaries only) and with one kernel per frame (both boundaries), every one with
+THREADS frames restored at once (the shipped defaults also with one, ``threads``), and reports
 seconds per frame (measurement of the motion included, after one untimed call on two frames)
 and the time over the one-kernel, mirror-boundary run of the same video, in one process. Writes
 ``<out-dir>/bench_video_motion_speed.md``/``.csv``. About 5 min on 2 cores.
@@ -26,16 +27,17 @@ import skimage.data
 
 from blurloc.experiments.photo_video import photo_video
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
-from blurloc.video_wiener import AGREEMENT_L1, deblur_video_motion
+from blurloc.video_wiener import AGREEMENT_L1, THREADS, deblur_video_motion
 
 #: (width, height) of the frames timed, and the pan per sub-frame (px) at each.
 SIZES = (((160, 120), 1.0), ((640, 480), 4.0))
 #: (label, the camera's turn about its optical axis per sub-frame in degrees).
 MOTIONS = (("pan", 0.0), ("turning", 0.3))
-#: (grid, boundary, agreement tolerance) timed.
-VARIANTS = ((3, "unknown", AGREEMENT_L1), (3, "unknown", None), (3, "mirror", AGREEMENT_L1),
-            (1, "unknown", None), (1, "mirror", None))  # fmt: skip
-REFERENCE = (1, "mirror", None)
+#: (grid, boundary, agreement tolerance, threads) timed.
+VARIANTS = ((3, "unknown", AGREEMENT_L1, THREADS), (3, "unknown", AGREEMENT_L1, 1),
+            (3, "unknown", None, THREADS), (3, "mirror", AGREEMENT_L1, THREADS),
+            (1, "unknown", None, THREADS), (1, "mirror", None, THREADS))  # fmt: skip
+REFERENCE = (1, "mirror", None, THREADS)
 
 
 def main() -> None:
@@ -51,22 +53,26 @@ def main() -> None:
                                  roll_deg=roll)  # fmt: skip
         deblur_video_motion(blurred[:2])  # first calls set up OpenCV and FFT plans: untimed
         seconds = {}
-        for grid, boundary, agreement in VARIANTS:
+        for grid, boundary, agreement, threads in VARIANTS:
             start = time.perf_counter()
-            deblur_video_motion(blurred, grid=grid, boundary=boundary, agreement_l1=agreement)
-            seconds[grid, boundary, agreement] = (time.perf_counter() - start) / len(blurred)
-        for (grid, boundary, agreement), value in seconds.items():
+            deblur_video_motion(blurred, grid=grid, boundary=boundary, agreement_l1=agreement,
+                                threads=threads)  # fmt: skip
+            seconds[grid, boundary, agreement, threads] = ((time.perf_counter() - start)
+                                                           / len(blurred))  # fmt: skip
+        for (grid, boundary, agreement, threads), value in seconds.items():
             rows.append({"size": f"{size[0]}x{size[1]}", "motion": motion, "grid": grid,
                          "boundary": boundary,
                          "agreement": "off" if agreement is None else agreement,
+                         "threads": threads,
                          "seconds_per_frame": round(value, 3),
                          "frames_per_second": round(1.0 / value, 2),
                          "times_reference": round(value / seconds[REFERENCE], 1)})  # fmt: skip
             print(rows[-1], flush=True)
     notes = (f"{args.frames} frames per video; seconds per frame include measuring the motion "
              "between frames; agreement: the largest disagreement of a frame's grid kernels at "
-             "which it is restored with one kernel (off: by its grid); times_reference: over "
-             "grid 1 with mirror boundaries on the same video.")  # fmt: skip
+             "which it is restored with one kernel (off: by its grid); threads: frames restored "
+             "at once; times_reference: over grid 1 with mirror boundaries on the same "
+             "video.")  # fmt: skip
     saved = save_benchmark_tables("bench_video_motion_speed", {"speed": rows}, args.out_dir,
                                   notes=notes)  # fmt: skip
     print(f"tables: {saved}")

@@ -472,9 +472,15 @@ def test_local_kernels_where_the_image_moves_differently_across_the_frame() -> N
     # the turn adds to the pan on one side of the frame and takes from it on the other
     assert motion.lengths_px.std(axis=1).min() > 0.5
     before = mean_frame_psnr([(blurred, sharp)])
-    local = mean_frame_psnr([(deblur_video_motion(blurred), sharp)]) - before
+    restored = deblur_video_motion(blurred)
+    local = mean_frame_psnr([(restored, sharp)]) - before
     single = mean_frame_psnr([(deblur_video_motion(blurred, grid=1), sharp)]) - before
     assert local > single + 0.3 and local > 0.5
+    # frames restored one at a time or three at once, on threads: the same video
+    for threads in (1, 3):
+        np.testing.assert_array_equal(deblur_video_motion(blurred, threads=threads), restored)
+    with pytest.raises(ValueError, match="threads must be >= 1"):
+        deblur_video_motion(blurred, threads=0)
     with pytest.raises(ValueError, match="grid"):
         local_motion_kernels(blurred, grid=0)
 

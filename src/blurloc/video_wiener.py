@@ -14,6 +14,8 @@ whose kernel is larger than the frame, is passed through.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 from scipy.spatial.distance import pdist
 
@@ -45,6 +47,9 @@ TILE_MARGIN_PX = 8
 #: GoPro-style videos of the photographs that the test videos do not show, panning, turning and
 #: moving forward (``benchmarks/choose_kernel_agreement.py``).
 AGREEMENT_L1 = 0.5
+#: Frames restored at once, each on its own thread (the transforms and array arithmetic release
+#: Python's lock): the two cores the package is measured on. The result does not depend on it.
+THREADS = 2
 
 
 def deblur_video_motion(
@@ -55,6 +60,7 @@ def deblur_video_motion(
     boundary: str = BOUNDARY,
     weight_per_noise: float = WEIGHT_PER_NOISE,
     agreement_l1: float | None = AGREEMENT_L1,
+    threads: int = THREADS,
 ) -> np.ndarray:
     r"""Deblur a video frame by frame with kernels from its own motion.
 
@@ -95,6 +101,8 @@ def deblur_video_motion(
     agreement_l1 : float or None
         Largest :func:`kernel_disagreement` of a frame's grid kernels at which the frame is
         restored with one kernel (>= 0; default AGREEMENT_L1; None: every frame by its grid).
+    threads : int
+        Frames restored at once (>= 1; default THREADS); the result is the same for any.
 
     Returns
     -------
@@ -106,17 +114,17 @@ def deblur_video_motion(
     ValueError
         If ``frames`` is not a (T, H, W, 3) uint8 video of at least two frames,
         ``exposure_share``, ``min_weight`` or ``weight_per_noise`` is not positive, ``grid`` < 1,
-        ``boundary`` is unknown or ``agreement_l1`` is negative.
+        ``boundary`` is unknown, ``agreement_l1`` is negative or ``threads`` < 1.
     """
     frames = np.asarray(frames)
     if frames.ndim != 4 or frames.shape[-1] != 3 or frames.dtype != np.uint8 or len(frames) < 2:
         raise ValueError(f"frames must be a (T, H, W, 3) uint8 video with T >= 2, got "
                          f"{frames.shape} {frames.dtype}")  # fmt: skip
-    _check_settings(min_weight, boundary, weight_per_noise, agreement_l1)
+    _check_settings(min_weight, boundary, weight_per_noise, agreement_l1, threads)
     motion = local_motion_kernels(frames, exposure_share, grid)
     return deblur_by_local_kernels(frames, motion.kernels, motion.lengths_px, motion.grid,
                                    min_weight, boundary, weight_per_noise=weight_per_noise,
-                                   agreement_l1=agreement_l1)  # fmt: skip
+                                   agreement_l1=agreement_l1, threads=threads)  # fmt: skip
 
 
 def deblur_by_kernels(
@@ -180,6 +188,7 @@ def deblur_by_local_kernels(
     iterations: int = BOUNDARY_ITERATIONS,
     weight_per_noise: float = WEIGHT_PER_NOISE,
     agreement_l1: float | None = AGREEMENT_L1,
+    threads: int = THREADS,
 ) -> np.ndarray:
     r"""Deconvolve each frame by the kernels of a grid of points, blended.
 
@@ -224,6 +233,9 @@ def deblur_by_local_kernels(
     agreement_l1 : float or None
         Largest disagreement of a frame's kernels at which it takes one kernel (>= 0; default
         AGREEMENT_L1; None: every frame by its grid).
+    threads : int
+        Frames restored at once, each on its own thread (>= 1; default THREADS); the result is
+        the same for any.
 
     Returns
     -------
@@ -235,9 +247,10 @@ def deblur_by_local_kernels(
     ValueError
         If the counts of frames, kernel lists and lengths differ, a frame's kernels or lengths
         are not ``grid`` squared, ``grid`` < 1, ``min_weight`` or ``weight_per_noise`` is not
-        positive, ``boundary`` is unknown, ``agreement_l1`` is negative, a kernel is not 2-D
-        with odd sides or does not sum to more than 0 (``grid`` > 1 and ``agreement_l1`` set:
-        :func:`kernel_disagreement`) or (once a frame is restored) ``iterations`` is negative.
+        positive, ``boundary`` is unknown, ``agreement_l1`` is negative, ``threads`` < 1, a
+        kernel is not 2-D with odd sides or does not sum to more than 0 (``grid`` > 1 and
+        ``agreement_l1`` set: :func:`kernel_disagreement`) or (once a frame is restored)
+        ``iterations`` is negative.
     """
     frames = np.asarray(frames)
     lengths_px = np.asarray(lengths_px, float)
@@ -250,14 +263,16 @@ def deblur_by_local_kernels(
         raise ValueError(f"one kernel and one length per frame and grid point: {len(frames)} "
                          f"frames, {len(kernels)} kernel lists, lengths {lengths_px.shape}, "
                          f"grid {grid}")  # fmt: skip
-    _check_settings(min_weight, boundary, weight_per_noise, agreement_l1)
+    _check_settings(min_weight, boundary, weight_per_noise, agreement_l1, threads)
     restored = np.array(frames, copy=True)
     height, width = frames.shape[1:3]
     blends = {}  # points per side: the blend weights and the part of the frame each covers
     for points in {grid, 1}:
         blend_weights = _blend_weights(height, width, points)
         blends[points] = blend_weights, [_covered(weight) for weight in blend_weights]
-    for index, frame in enumerate(frames):
+
+    def restore(index: int) -> None:
+        frame = frames[index]
         frame_kernels, frame_lengths = kernels[index], lengths_px[index]
         frame_weights, covers = blends[grid]
         if (grid > 1 and agreement_l1 is not None
@@ -272,7 +287,7 @@ def deblur_by_local_kernels(
             for kernel, length in zip(frame_kernels, frame_lengths, strict=True)
         ]
         if not any(usable):
-            continue  # no blur to undo, or paths that leave the frame
+            return  # no blur to undo, or paths that leave the frame
         weight = max(weight_per_noise * estimate_noise_sigma(frame), min_weight)
         image = as_float_image(frame)
         blend = np.zeros_like(image)
@@ -287,6 +302,9 @@ def deblur_by_local_kernels(
                                       iterations)  # fmt: skip
             blend[tile] += frame_weights[point][tile][..., None] * sharp
         restored[index] = like_input(blend, frame)
+
+    with ThreadPoolExecutor(threads) as pool:
+        list(pool.map(restore, range(len(frames))))
     return restored
 
 
@@ -345,10 +363,16 @@ def _widened(cover: tuple[slice, slice], margin: int, shape: tuple[int, ...]) ->
 
 
 def _check_settings(
-    min_weight: float, boundary: str, weight_per_noise: float, agreement_l1: float | None = None
+    min_weight: float,
+    boundary: str,
+    weight_per_noise: float,
+    agreement_l1: float | None = None,
+    threads: int = 1,
 ) -> None:
-    """Refuse a weight floor or weight per noise that is not positive, an unknown boundary or
-    a negative agreement tolerance, naming it."""
+    """Refuse a weight floor or weight per noise that is not positive, an unknown boundary, a
+    negative agreement tolerance or fewer than one thread, naming it."""
+    if threads < 1:
+        raise ValueError(f"threads must be >= 1, got {threads}")
     for name, value in (("min_weight", min_weight), ("weight_per_noise", weight_per_noise)):
         if not value > 0:
             raise ValueError(f"{name} must be > 0, got {value}")
