@@ -42,7 +42,6 @@ grid; ``-videos.csv``: one row per video and method).
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from pathlib import Path
@@ -51,6 +50,7 @@ import numpy as np
 
 from blurloc.blur import DEFAULT_EXPOSURE_SHARE
 from blurloc.data import list_scenes, load_split
+from blurloc.data.manifest import render_settings
 from blurloc.deconv import deblur_blind
 from blurloc.experiments.photo_video import (
     photo_training_videos,
@@ -108,7 +108,7 @@ def lead(interval: Interval, subject: str = "video_motion") -> str:
 
 def render_exposure(root: Path) -> float:
     """A stand-in render's exposure in frame intervals (its ``blur_strength``)."""
-    return float(json.loads((root / "standin.json").read_text())["config"]["blur_strength"])
+    return float(render_settings(root)["blur_strength"])
 
 
 def gain(restore, blurred: np.ndarray, sharp: np.ndarray) -> float:

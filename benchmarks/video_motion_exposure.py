@@ -27,7 +27,6 @@ default paired by video with a 95 % t-interval. Writes ``<out-dir>/video_motion_
 from __future__ import annotations
 
 import argparse
-import json
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -35,6 +34,7 @@ import numpy as np
 
 from blurloc.blur import DEFAULT_EXPOSURE_SHARE, calibrate_exposure_share, frame_shifts
 from blurloc.data import list_scenes, load_split
+from blurloc.data.manifest import render_settings
 from blurloc.experiments.photo_video import photo_video_set, restoration_psnr
 from blurloc.intervals import paired_interval
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
@@ -60,7 +60,7 @@ def photo_sets() -> Iterator[tuple[str, float, list[tuple[str, np.ndarray, np.nd
 
 def standin_set(root: Path, frames: int) -> tuple[float, list[tuple[str, np.ndarray, np.ndarray]]]:
     """(the render's exposure share, videos) of a stand-in's test sequences."""
-    share = float(json.loads((root / "standin.json").read_text())["config"]["blur_strength"])
+    share = float(render_settings(root)["blur_strength"])
     videos = [(f"{scene} {sequence.folder.name}", sequence.images("color", ids),
                sequence.images("sharp", ids))
               for scene in list_scenes(root) for sequence in load_split(root, scene, "test")

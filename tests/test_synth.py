@@ -23,6 +23,7 @@ from scipy.spatial.transform import Rotation
 
 from blurloc.data import check_data, load_split
 from blurloc.data.camera_model import capture, optics_blur, sensor_noise
+from blurloc.data.manifest import render_settings
 from blurloc.data.render import Light, Quad, Scene, render
 from blurloc.data.scenes import REAL_MEAN_POSE_BASELINE, SCENE_NAMES, make_scene
 from blurloc.data.synth import (
@@ -525,3 +526,13 @@ def test_bad_look_settings_are_refused() -> None:
             SynthConfig(**{field: value})
     with pytest.raises(ValueError, match="unknown scene content"):
         make_scene("chess", "marble")
+
+
+def test_render_settings_are_read_from_the_stand_ins_manifest(quick_root: Path, tmp_path: Path):
+    """The settings a stand-in records are those it was rendered with; a folder without a
+    manifest is named in the error."""
+    settings = render_settings(quick_root)
+    assert settings["blur_strength"] == SynthConfig.quick().blur_strength
+    assert settings["width"] == SynthConfig.quick().width
+    with pytest.raises(ValueError, match="no stand-in settings"):
+        render_settings(tmp_path)

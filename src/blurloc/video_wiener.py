@@ -19,7 +19,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 from scipy.spatial.distance import pdist
 
-from .blur import estimate_noise_sigma
+from .blur import centred_on_one_grid, estimate_noise_sigma
 from .blur.video_motion import DEFAULT_EXPOSURE_SHARE, LOCAL_GRID, grid_points, local_motion_kernels
 from .deconv import BOUNDARY_ITERATIONS, check_boundary, wiener_deconvolve
 from .images import as_float_image, like_input
@@ -335,18 +335,11 @@ def kernel_disagreement(kernels: list[np.ndarray]) -> float:
         If no kernel is given, or a kernel is not 2-D with odd sides or does not sum to more
         than 0.
     """
-    shapes = [np.shape(kernel) for kernel in kernels]
-    if len(shapes) == 0 or any(len(shape) != 2 or shape[0] % 2 == 0 or shape[1] % 2 == 0
-                               for shape in shapes):  # fmt: skip
-        raise ValueError(f"kernels must be 2-D with odd sides, got shapes {shapes}")
-    sums = [float(np.sum(kernel)) for kernel in kernels]
+    padded = centred_on_one_grid(kernels)
+    sums = [float(np.sum(kernel)) for kernel in padded]
     if not all(total > 0 for total in sums):
         raise ValueError(f"kernels must sum to more than 0, got sums {sums}")
-    size = np.max(shapes, axis=0)
-    flat = np.stack([np.pad(np.asarray(kernel, float) / total,
-                            [((side - own) // 2,) * 2 for side, own in
-                             zip(size, np.shape(kernel), strict=True)]).ravel()
-                     for kernel, total in zip(kernels, sums, strict=True)])  # fmt: skip
+    flat = np.stack([(kernel / total).ravel() for kernel, total in zip(padded, sums, strict=True)])
     return float(pdist(flat, "cityblock").max()) if len(flat) > 1 else 0.0
 
 

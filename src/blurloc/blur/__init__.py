@@ -27,7 +27,14 @@ from .detection import (
 )
 from .estimation import SINC_AGREEMENT, SINC_MIN_PX, BlurEstimate, estimate_motion_blur
 from .features import ANALYSIS_SIDE, MIN_ANALYSIS_SIDE, BlurFeatures, blur_features
-from .kernels import blur_image, check_kernel, motion_kernel, shake_path, trajectory_kernel
+from .kernels import (
+    blur_image,
+    centred_on_one_grid,
+    check_kernel,
+    motion_kernel,
+    shake_path,
+    trajectory_kernel,
+)
 from .length_model import (
     LENGTH_MODEL_PATH,
     LengthModel,
@@ -77,6 +84,7 @@ __all__ = [
     "blur_score",
     "calibrate_blur_threshold",
     "calibrate_exposure_share",
+    "centred_on_one_grid",
     "check_kernel",
     "default_length_model",
     "detect_blur",

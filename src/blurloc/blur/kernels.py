@@ -9,6 +9,7 @@ pixels of the image given. A kernel is a 2-D array summing to 1 with its centre 
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 
 import cv2
 import numpy as np
@@ -201,6 +202,35 @@ def shake_path(extent_px: float, rng: np.random.Generator, steps: int = 500) -> 
         points[step + 1] = points[step] + velocity
     path = np.column_stack([points.real, points.imag])
     return (path - path.min(axis=0)) * (extent_px / np.ptp(path, axis=0).max())
+
+
+def centred_on_one_grid(kernels: Sequence[np.ndarray]) -> list[np.ndarray]:
+    """Kernels with odd sides zero-padded about their centre pixels to one shape, the largest
+    side of any along each axis, so that they can be compared or averaged pixel by pixel.
+
+    Parameters
+    ----------
+    kernels : sequence of numpy.ndarray
+        2-D kernels with odd sides.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        The kernels, float64, each of the common shape.
+
+    Raises
+    ------
+    ValueError
+        If no kernel is given, or a kernel is not 2-D with odd sides.
+    """
+    shapes = [np.shape(kernel) for kernel in kernels]
+    if len(shapes) == 0 or any(len(shape) != 2 or shape[0] % 2 == 0 or shape[1] % 2 == 0
+                               for shape in shapes):  # fmt: skip
+        raise ValueError(f"kernels must be 2-D with odd sides, got shapes {shapes}")
+    size = np.max(shapes, axis=0)
+    return [np.pad(np.asarray(kernel, float),
+                   [((side - own) // 2,) * 2 for side, own in zip(size, shape, strict=True)])
+            for kernel, shape in zip(kernels, shapes, strict=True)]  # fmt: skip
 
 
 def check_kernel(kernel: np.ndarray, image_shape: tuple[int, ...] | None = None) -> np.ndarray:

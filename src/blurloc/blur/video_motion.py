@@ -24,9 +24,10 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 from scipy.linalg import solve_banded
+from scipy.ndimage import fourier_shift
 
 from ..images import as_float_image, srgb_to_linear
-from .kernels import trajectory_kernel
+from .kernels import blur_image, centred_on_one_grid, trajectory_kernel
 from .spectrum import to_gray
 
 #: Points per exposure path (:func:`exposure_paths`).
@@ -502,13 +503,12 @@ def fit_exposure_share(
     linear = [to_gray(srgb_to_linear(as_float_image(frame))).astype(np.float32)
               for frame in frames]  # fmt: skip
     height, width = linear[0].shape
-    frequencies = np.fft.fftfreq(height)[:, None], np.fft.rfftfreq(width)[None, :]
     moved = {}  # each pair's frames moved half-way towards each other by the measured shift
     for pair in pairs:
-        half = shifts[pair] / 2
-        moved[pair] = [np.float32(np.fft.irfft2(np.fft.rfft2(linear[frame]) * np.exp(
-            -2j * np.pi * sign * (frequencies[0] * half[1] + frequencies[1] * half[0])),
-            s=(height, width))) for frame, sign in ((pair, 1), (pair + 1, -1))]  # fmt: skip
+        half = shifts[pair][::-1] / 2  # (rows, columns)
+        moved[pair] = [np.fft.irfft2(fourier_shift(np.fft.rfft2(linear[frame]), sign * half,
+                                                   n=width), s=(height, width))
+                       for frame, sign in ((pair, 1), (pair + 1, -1))]  # fmt: skip
     gradient_energy = np.mean([sum(np.mean(np.diff(linear[pair], axis=axis) ** 2)
                                    for axis in (0, 1)) for pair in pairs])  # fmt: skip
 
@@ -518,14 +518,14 @@ def fit_exposure_share(
                    for frame in sorted(set(pairs) | set(pairs + 1))}  # fmt: skip
         total = 0.0
         for pair in pairs:
-            first, second = _alike(kernels[pair], kernels[pair + 1])
-            margin = first.shape[0] + int(np.ceil(np.abs(shifts[pair]).max() / 2)) + 2
+            first, second = centred_on_one_grid([kernels[pair], kernels[pair + 1]])
+            margin = max(first.shape) + int(np.ceil(np.abs(shifts[pair]).max() / 2)) + 2
             if 2 * margin >= min(height, width):
                 return np.inf  # paths as long as the frame: nothing left to compare
             earlier, later = moved[pair]
             inside = np.s_[margin:-margin, margin:-margin]
-            crossed = _blurred(earlier, second) - _blurred(later, first)
-            alike = _blurred(earlier - later, (first + second) / 2)
+            crossed = blur_image(earlier, second) - blur_image(later, first)
+            alike = blur_image(earlier - later, (first + second) / 2)
             total += np.mean(crossed[inside] ** 2) - alike_weight * np.mean(alike[inside] ** 2)
         return total / len(pairs)
 
@@ -539,18 +539,6 @@ def fit_exposure_share(
     }
     share, least = min({**coarse, **fine}.items(), key=lambda item: item[1])
     return ExposureFit(share=float(share), depth=float(-least / gradient_energy))
-
-
-def _alike(first: np.ndarray, second: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Two odd-sided kernels zero-padded about their centres to one square size."""
-    side = max(first.shape + second.shape)
-    return tuple(np.pad(kernel, [((side - own) // 2,) * 2 for own in kernel.shape])
-                 for kernel in (first, second))  # fmt: skip
-
-
-def _blurred(image: np.ndarray, kernel: np.ndarray) -> np.ndarray:
-    """``image`` convolved with ``kernel`` (mirrored at the border)."""
-    return cv2.filter2D(image, -1, np.float32(kernel[::-1, ::-1]), borderType=cv2.BORDER_REFLECT)
 
 
 @dataclass(frozen=True)

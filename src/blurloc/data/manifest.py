@@ -130,3 +130,29 @@ def is_up_to_date(manifest_path: Path, manifest: dict) -> bool:
         return stored == manifest
     except (OSError, ValueError, KeyError, TypeError):
         return False
+
+
+def render_settings(root: str | os.PathLike) -> dict:
+    """The settings a stand-in was rendered with (``root/standin.json``'s ``config``: e.g.
+    ``blur_strength``, the exposure in frame intervals).
+
+    Parameters
+    ----------
+    root : str or os.PathLike
+        A stand-in root.
+
+    Returns
+    -------
+    dict
+        The render's settings, as :class:`~blurloc.data.synth_config.SynthConfig` names them.
+
+    Raises
+    ------
+    ValueError
+        Naming the manifest, when it is missing or has no settings.
+    """
+    path = Path(root) / STANDIN_MANIFEST
+    try:
+        return dict(json.loads(path.read_text())["config"])
+    except (OSError, ValueError, KeyError, TypeError) as error:
+        raise ValueError(f"{path}: no stand-in settings to read ({error})") from None
