@@ -31,12 +31,15 @@ share calibrated per video and,
 on the stand-in, with its camera's own exposure share (the render's blur strength, its exposure
 in frame intervals: a camera setting, not the blur of any frame; the photo videos' own share,
 9 sub-frames over 9 steps of the pan, is 1.0, the chosen one), ``blind_per_frame``
-(:func:`blurloc.deconv.deblur_blind`, gated, as shipped) and ``network`` (the shipped video
-checkpoint). Per set: the mean gain over videos (PSNR of the restored video minus the blurred
-one's, eq. 6, mean over frames), the worst video, the videos above 0 dB, and ``video_motion``
-minus each other method paired by video with a 95 % t-interval. Writes
-``<out-dir>/video_motion_deblur.md``/``.csv`` (``-choice.csv``: the
-grid; ``-videos.csv``: one row per video and method).
+(:func:`blurloc.deconv.deblur_blind`, gated, as shipped), ``network`` (the shipped video
+checkpoint) and that network run over the frames that ``video_motion`` with the share read per
+video restored (:class:`~blurloc.inference.MotionNetworkRestorer`, the default of ``blurloc
+deblur-video``). Per set: the mean gain over videos (PSNR of the restored video minus the
+blurred one's, eq. 6, mean over frames), the worst video, the videos above 0 dB, and
+``video_motion`` minus each other method paired by video with a 95 % t-interval; the
+``-pairs`` table pairs the network after ``video_motion`` with the network alone and with
+``video_motion`` (PAIRS). Writes ``<out-dir>/video_motion_deblur.md``/``.csv``
+(``-pairs.csv``; ``-choice.csv``: the grid; ``-videos.csv``: one row per video and method).
 """
 
 from __future__ import annotations
@@ -57,7 +60,7 @@ from blurloc.experiments.photo_video import (
     photo_video_gains,
     restoration_psnr,
 )
-from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
+from blurloc.inference import DEFAULT_CHECKPOINT, MotionNetworkRestorer, VideoRestorer
 from blurloc.intervals import Interval, paired_interval
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.video_wiener import MIN_WEIGHT, WEIGHT_PER_NOISE, deblur_video_motion
@@ -75,6 +78,14 @@ PHOTO_VIDEO_SHARE = 1.0
 #: moves a 160 x 120 frame's corner by about 4.7 px per frame).
 TURNING_SETS = (("turning 0.1 deg", 0.1, 0.0), ("turning 0.3 deg", 0.3, 0.0),
                 ("moving forward 0.3 %", 0.0, 0.003))  # fmt: skip
+
+
+#: The recurrent network run over the frames deconvolved by their motion (share read per video):
+#: :class:`~blurloc.inference.MotionNetworkRestorer`, ``blurloc deblur-video``'s default.
+NETWORK_AFTER = "network after video_motion, calibrated share"
+#: Further paired comparisons (first minus second, per video) in the ``-pairs`` table.
+PAIRS = ((NETWORK_AFTER, "network"), (NETWORK_AFTER, "video_motion, calibrated share"),
+         (NETWORK_AFTER, "video_motion"))  # fmt: skip
 
 
 def photo_video_scores(noise_sigma: float, roll_deg: float = 0.0, zoom: float = 0.0):
@@ -192,6 +203,7 @@ def main() -> None:
             "video_motion, calibrated share": lambda v: deblur_video_motion(v, None, **weights),
             "blind_per_frame": lambda v: np.stack([deblur_blind(frame) for frame in v]),
             "network": network,
+            NETWORK_AFTER: MotionNetworkRestorer(),
         }
         if camera_share != share:  # the camera's own share, where the chosen one is not it
             chosen["video_motion, the camera's exposure share"] = lambda v: deblur_video_motion(
@@ -207,7 +219,7 @@ def main() -> None:
                        ("stand-in without noise", args.clean_standin)):  # fmt: skip
         if root is not None:
             sets[name] = (render_exposure(root), standin_scores(root, args.frames))
-    video_rows, summary = [], []
+    video_rows, summary, pairs = [], [], []
     for set_name, (camera_share, score) in sets.items():
         gains = {}
         for name, method in methods(camera_share).items():
@@ -229,6 +241,12 @@ def main() -> None:
                             "ci_low": round(interval.low, 3), "ci_high": round(interval.high, 3),
                             "verdict": lead(interval)})  # fmt: skip
             summary.append(row)
+        for first, second in PAIRS:
+            interval = paired_interval(np.array(gains[first]) - gains[second], method="t")
+            pairs.append({"set": set_name, "first": first, "second": second,
+                          "videos": len(gains[first]), "first_minus_db": round(interval.mean, 3),
+                          "ci_low": round(interval.low, 3), "ci_high": round(interval.high, 3),
+                          "verdict": lead(interval, "first")})  # fmt: skip
     notes = (f"Exposure share, floor of the gradient regulariser's weight and its weight per unit "
              f"of noise chosen on 12 training photo videos (other photographs), without noise "
              f"and with sigma 0.01: {share}, {weight}, {per_noise} (the package's defaults: "
@@ -241,7 +259,7 @@ def main() -> None:
              f"{time.perf_counter() - start:.0f} s on 2 CPU cores.")  # fmt: skip
     saved = save_benchmark_tables(
         "video_motion_deblur",
-        {"results": summary, "choice": choice_rows, "videos": video_rows},
+        {"results": summary, "pairs": pairs, "choice": choice_rows, "videos": video_rows},
         args.out_dir,
         notes=notes,
     )

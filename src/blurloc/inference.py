@@ -1,5 +1,6 @@
 """Using trained networks: load any checkpoint of the package safely, restore a video with the
-recurrent deblurring network (eq. 8-11), predict camera poses with the pose regressor.
+recurrent deblurring network (eq. 8-11), alone or after deconvolving each frame by the video's own
+motion, predict camera poses with the pose regressor.
 
 Every checkpoint is read by :func:`blurloc.checkpoints.load_checkpoint` (tensors and plain data
 only: a crafted file cannot run code); every failure is a ``ValueError`` naming the file.
@@ -29,6 +30,7 @@ from .models.video_deblur import (
 from .poses import PosePair
 from .train.config import PoseTrainConfig
 from .train.datasets import FrameCache, PoseSequenceDataset
+from .video_wiener import BOUNDARY, LOCAL_GRID, deblur_video_motion
 
 #: The trained video network shipped with the package (docs/cli.md, "Command line", gives the
 #: command that makes it).
@@ -98,6 +100,58 @@ class VideoRestorer:
         """``blurred`` (uint8 (T, H, W, 3), T >= 2) restored, same shape and dtype."""
         model = _loaded_video_deblur(str(self.checkpoint), self.device)
         return restore_sequence(model, blurred, self.device)
+
+
+@dataclass(frozen=True)
+class MotionNetworkRestorer:
+    r"""Each frame deconvolved by its own motion in the video, then the recurrent network.
+
+    .. math::
+
+        L_t = \mathrm{RNN}\big(\tilde{x}_t, h_{t-1}\big)
+
+    with :math:`\tilde{x}_t` frame t deconvolved with the kernels of the path its image took
+    during the exposure (:func:`~blurloc.video_wiener.deblur_video_motion`: the blur removed)
+    and the recurrent network of eq. 8-11 (state :math:`h_t`) run over the deconvolved video
+    (:func:`restore_sequence`: it refines them and removes noise that the deconvolution
+    amplified). A Wiener step before a learnt refinement, as in Dong, Roth and Schiele's deep
+    Wiener deconvolution (NeurIPS 2020); the paper's network reads the blurred frames alone.
+    Picklable, like :class:`VideoRestorer`.
+
+    Parameters
+    ----------
+    checkpoint : str or os.PathLike
+        A ``video-deblur`` checkpoint (default :data:`DEFAULT_CHECKPOINT`).
+    device : str
+        Where the network runs.
+    exposure_share : float or None
+        Exposure time over frame interval (default None: read from the video,
+        :func:`~blurloc.blur.video_motion.calibrate_exposure_share`).
+    grid : int
+        Kernels per side of each frame's grid (:func:`~blurloc.video_wiener.deblur_video_motion`).
+    boundary : str
+        ``"unknown"`` or ``"mirror"`` (:func:`~blurloc.video_wiener.deblur_video_motion`).
+
+    Examples
+    --------
+    >>> from blurloc.experiments.photo_video import photo_video
+    >>> import skimage
+    >>> blurred, sharp = photo_video(skimage.data.coffee(), frames=4, step_px=2.0)
+    >>> MotionNetworkRestorer()(blurred).shape
+    (4, 120, 160, 3)
+    """
+
+    checkpoint: str | os.PathLike = DEFAULT_CHECKPOINT
+    device: str = "cpu"
+    exposure_share: float | None = None
+    grid: int = LOCAL_GRID
+    boundary: str = BOUNDARY
+
+    def __call__(self, blurred: np.ndarray) -> np.ndarray:
+        """``blurred`` (uint8 (T, H, W, 3), T >= 2) restored, same shape and dtype."""
+        deconvolved = deblur_video_motion(blurred, self.exposure_share, grid=self.grid,
+                                          boundary=self.boundary)  # fmt: skip
+        return VideoRestorer(self.checkpoint, self.device)(deconvolved)
 
 
 @functools.cache
