@@ -188,7 +188,7 @@ def test_frame_cache_is_bounded(quick_root: Path) -> None:
         np.testing.assert_array_equal(a, b)
 
 
-def test_deblur_video_streams_its_frames(
+def test_deblur_video_network_streams_its_frames(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
 ) -> None:
     import blurloc.data.frames
@@ -206,7 +206,7 @@ def test_deblur_video_streams_its_frames(
                         lambda path: events.append("read") or read_image(path))  # fmt: skip
     monkeypatch.setattr(cv2, "imwrite", lambda *a: events.append("write") or imwrite(*a))
     monkeypatch.setattr(blurloc.inference, "CHUNK_PIXELS", 8 * 24 * 32)  # chunks of 8 frames
-    assert main(["deblur-video", str(folder), str(tmp_path / "out")]) == 0
+    assert main(["deblur-video", str(folder), str(tmp_path / "out"), "--method", "network"]) == 0
     assert json.loads(capsys.readouterr().out)["frames"] == 40
     held = np.cumsum([1 if e == "read" else -1 for e in events])
     assert events.count("write") == 40 and held.max() <= 8  # never more than one chunk held

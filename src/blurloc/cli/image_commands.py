@@ -183,48 +183,48 @@ def _deblur_video(args: argparse.Namespace) -> int:
 
     from ..data.frames import list_frames, read_frames
     from ..files import image_header, write_image_file
-    from ..inference import DEFAULT_CHECKPOINT, load_video_deblur, restore_frames
+    from ..inference import (
+        DEFAULT_CHECKPOINT,
+        MotionNetworkRestorer,
+        load_video_deblur,
+        restore_frames,
+    )
     from ..video_wiener import deblur_video_motion
 
+    by_motion = args.method in ("motion-network", "motion")
     if args.method == "motion" and args.checkpoint:
-        raise ValueError("--checkpoint is for --method network; --method motion has no network")
-    if args.exposure_share is not None and args.method != "motion":
-        raise ValueError("--exposure-share is for --method motion")
+        raise ValueError("--checkpoint is for the methods with a network; --method motion has "
+                         "none")  # fmt: skip
+    for option, value in (("--exposure-share", args.exposure_share), ("--grid", args.grid),
+                          ("--boundary", args.boundary)):  # fmt: skip
+        if value is not None and not by_motion:
+            raise ValueError(f"{option} is for --method motion-network or motion")
     if args.exposure_share is not None and not args.exposure_share > 0:
         raise ValueError(f"--exposure-share must be > 0, got {args.exposure_share}")
-    if args.calibrate_exposure and args.method != "motion":
-        raise ValueError("--calibrate-exposure is for --method motion")
-    if args.calibrate_exposure and args.exposure_share is not None:
-        raise ValueError("--calibrate-exposure reads the share from the video: give it or "
-                         "--exposure-share, not both")  # fmt: skip
-    if args.grid is not None and args.method != "motion":
-        raise ValueError("--grid is for --method motion")
     if args.grid is not None and args.grid < 1:
         raise ValueError(f"--grid must be >= 1, got {args.grid}")
-    if args.boundary is not None and args.method != "motion":
-        raise ValueError("--boundary is for --method motion")
-    model = (
-        None
-        if args.method == "motion"
-        else load_video_deblur(args.checkpoint or DEFAULT_CHECKPOINT)
-    )
+    checkpoint = args.checkpoint or DEFAULT_CHECKPOINT
+    # a damaged checkpoint stops before any frame is read
+    model = None if args.method == "motion" else load_video_deblur(checkpoint)
     paths = list_frames(args.input)
     target = Path(args.output)
     check_output(target, args.input, args.checkpoint, names=[p.name for p in paths],
                  overwrite=args.overwrite)  # fmt: skip
-    for path in paths:  # both methods restore 8-bit RGB: refuse what they would change
+    for path in paths:  # every method restores 8-bit RGB: refuse what it would change
         header = image_header(path)
         if (header.bit_depth, header.channels) != (8, 3):
             raise ValueError(f"{path}: {header.describe()} frame; deblur-video restores 8-bit "
                              "RGB frames only and would change it (convert the frames, or use "
                              "`blurloc deblur`, which keeps depth and channels)")  # fmt: skip
-    if args.method == "motion":  # the whole video in memory: each frame's path needs its neighbours
-        given = {"exposure_share": args.exposure_share, "grid": args.grid,
-                 "boundary": args.boundary}  # fmt: skip
+    if by_motion:  # the whole video in memory: each frame's path needs its neighbours
+        given = {"grid": args.grid, "boundary": args.boundary}
         options = {name: value for name, value in given.items() if value is not None}
-        if args.calibrate_exposure:
-            options["exposure_share"] = None  # read from the video
-        restored = deblur_video_motion(np.stack(list(read_frames(paths))), **options)
+        video = np.stack(list(read_frames(paths)))
+        if args.method == "motion":
+            restored = deblur_video_motion(video, args.exposure_share, **options)
+        else:
+            restored = MotionNetworkRestorer(checkpoint, exposure_share=args.exposure_share,
+                                             **options)(video)  # fmt: skip
     else:
         restored = restore_frames(model, read_frames(paths))  # streamed: one chunk at a time
     target.mkdir(parents=True, exist_ok=True)
@@ -293,32 +293,30 @@ def add_deblur_video_parser(commands: argparse._SubParsersAction) -> None:
     """Add ``blurloc deblur-video`` and its options to ``commands``."""
     video = commands.add_parser(
         "deblur-video",
-        help="deblur a video folder with the recurrent network, or with kernels from its motion",
+        help="deblur a video folder: kernels from its own motion, then the recurrent network",
     )
     video.add_argument("input", help="7-Scenes sequence folder or folder of images")
     video.add_argument("output", help="folder for the deblurred frames (same names)")
     video.add_argument(
         "--method",
-        choices=("network", "motion"),
-        default="network",
-        help="network: the recurrent network (default); motion: Wiener "
-        "deconvolution of each frame by the path its image took during the "
-        "exposure, from the video's own motion (holds the video in memory)",
+        choices=("motion-network", "network", "motion"),
+        default="motion-network",
+        help="motion-network (default): Wiener deconvolution of each frame by the path its image "
+        "took during the exposure, from the video's own motion, then the recurrent network over "
+        "the deconvolved frames; network: the recurrent network alone (the paper's method); "
+        "motion: the deconvolution alone (both motion methods hold the video in memory)",
     )
     video.add_argument("--exposure-share", type=float,
-                       help="with --method motion: exposure time over frame interval (default: "
-                            "that of frames averaged the GoPro way; 0.5 for a 180-degree "
-                            "shutter)")  # fmt: skip
-    video.add_argument("--calibrate-exposure", action="store_true",
-                       help="with --method motion: read the exposure share from the video, "
-                            "where its frames' blurs differ (blur.calibrate_exposure_share; the "
-                            "default share where they are too alike to tell)")  # fmt: skip
+                       help="with the motion methods: exposure time over frame interval "
+                            "(default: read from the video where its frames' blurs differ, "
+                            "blur.calibrate_exposure_share, else 1.0, that of frames averaged "
+                            "the GoPro way; 0.5 for a 180-degree shutter)")  # fmt: skip
     video.add_argument("--grid", type=int,
-                       help="with --method motion: kernels per side of a grid over each frame, "
-                            "for a camera that turns about its optical axis or moves along it "
-                            "(default 3; 1: one kernel per frame)")  # fmt: skip
+                       help="with the motion methods: kernels per side of a grid over each "
+                            "frame, for a camera that turns about its optical axis or moves "
+                            "along it (default 3; 1: one kernel per frame)")  # fmt: skip
     video.add_argument("--boundary", choices=("unknown", "mirror"),
-                       help="with --method motion: the image beyond the frame solved for as "
+                       help="with the motion methods: the image beyond the frame solved for as "
                             "unknown (default), or a mirror of the frame (several times "
                             "faster, rings at the border where the camera pans)")  # fmt: skip
     video.add_argument("--checkpoint", help="network checkpoint (default: the shipped one)")
