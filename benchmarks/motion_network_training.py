@@ -83,6 +83,8 @@ def standin_part(root: Path, split: str, start: int, frames: int, first_only: bo
         sequences = load_split(root, scene, split)
         for sequence in sequences[:1] if first_only else sequences:
             ids = sequence.frame_ids[start : start + frames]
+            if len(ids) < 2:  # a sequence too short for this part (the stand-in's stairs)
+                continue
             label = f"{root.name} {scene} {sequence.folder.name}"
             videos.append((label, sequence.images("color", ids), sequence.images("sharp", ids)))
     return videos

@@ -171,6 +171,16 @@ def test_the_exposure_share_is_read_from_frames_whose_blur_changes(share: float)
         fit_exposure_share(blurred, frame_shifts(blurred), alike_weight=-1.0)
 
 
+def test_a_long_steady_pan_does_not_hide_where_the_blur_changes() -> None:
+    """150 frames of a steady pan, then a camera that speeds up and turns: the share is read
+    from the pairs where the motion changes (at most CALIBRATION_MAX_PAIRS), so the steady
+    frames, whose blurs are alike and tell nothing, do not dilute it below the depth at which
+    it is told apart."""
+    varying = np.array([[2.0, 0.5], [4.0, 1.0], [5.0, 3.0], [4.0, 5.0], [2.0, 6.0], [1.0, 4.0]])
+    blurred = _blurred_by_share(np.vstack([np.tile([3.3, 1.7], (150, 1)), varying]), 1.0)
+    assert calibrate_exposure_share(blurred, frame_shifts(blurred)) == pytest.approx(1.0, rel=0.2)
+
+
 def test_a_still_video_has_no_blur_and_is_returned_unchanged() -> None:
     still = _panned((0.0, 0.0), frames=3)
     motion = video_motion_kernels(still)

@@ -46,6 +46,10 @@ MAX_CORRECTED_SHARE = float(np.sqrt(6 * (1 - 1 / MAX_CORRECTION_GAIN)))
 #: Frame pairs whose image moves less than this (px) do not calibrate the exposure share
 #: (:func:`calibrate_exposure_share`),
 CALIBRATION_MIN_MOTION_PX = 1.0
+#: at most this many pairs count, those where the motion changes most (under a steady motion
+#: both frames' blurs are alike and the comparison tells nothing; a long video is read as fast
+#: as a short one),
+CALIBRATION_MAX_PAIRS = 24
 #: the shares it tries, then those within one step of the best every CALIBRATION_STEP,
 CALIBRATION_SHARES = np.round(np.arange(0.2, 3.01, 0.2), 2)
 CALIBRATION_STEP = 0.05
@@ -460,7 +464,10 @@ def fit_exposure_share(
     kernel lowers whatever the share (noise, parallax, interpolation); the difference keeps
     what only the two frames' different kernels tell. :math:`D` is evaluated at
     CALIBRATION_SHARES, then every CALIBRATION_STEP within one of their steps of the best.
-    Pairs whose image moves less than CALIBRATION_MIN_MOTION_PX do not count. How clearly the
+    Pairs whose image moves less than CALIBRATION_MIN_MOTION_PX do not count; of the others, at
+    most CALIBRATION_MAX_PAIRS count, those where the displacement changes most from the
+    previous pair to the next (:math:`\lVert d_{t+1} - d_{t-1} \rVert`: where the two frames'
+    kernels differ most). How clearly the
     share is told apart is its depth, :math:`-D / G` at the best share, with G the frames'
     gradient energy (the mean of :math:`\langle |\partial_x b_t|^2 + |\partial_y b_t|^2
     \rangle` over the pairs): where the kernels are alike (a steady pan) D is not below 0
@@ -500,9 +507,13 @@ def fit_exposure_share(
     pairs = np.nonzero(np.linalg.norm(shifts, axis=1) >= CALIBRATION_MIN_MOTION_PX)[0]
     if len(pairs) == 0:
         return None
-    linear = [to_gray(srgb_to_linear(as_float_image(frame))).astype(np.float32)
-              for frame in frames]  # fmt: skip
-    height, width = linear[0].shape
+    if len(pairs) > CALIBRATION_MAX_PAIRS:  # where the motion changes most, in time order
+        before, after = np.vstack([shifts[:1], shifts[:-1]]), np.vstack([shifts[1:], shifts[-1:]])
+        change = np.linalg.norm(after - before, axis=1)[pairs]
+        pairs = np.sort(pairs[np.argsort(-change, kind="stable")[:CALIBRATION_MAX_PAIRS]])
+    linear = {frame: to_gray(srgb_to_linear(as_float_image(frames[frame]))).astype(np.float32)
+              for frame in sorted(set(pairs) | set(pairs + 1))}  # fmt: skip
+    height, width = linear[pairs[0]].shape
     moved = {}  # each pair's frames moved half-way towards each other by the measured shift
     for pair in pairs:
         half = shifts[pair][::-1] / 2  # (rows, columns)
