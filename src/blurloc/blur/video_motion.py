@@ -467,11 +467,10 @@ def fit_exposure_share(
     Pairs whose image moves less than CALIBRATION_MIN_MOTION_PX do not count; of the others, at
     most CALIBRATION_MAX_PAIRS count, those where the displacement changes most from the
     previous pair to the next (:math:`\lVert d_{t+1} - d_{t-1} \rVert`: where the two frames'
-    kernels differ most). How clearly the
-    share is told apart is its depth, :math:`-D / G` at the best share, with G the frames'
-    gradient energy (the mean of :math:`\langle |\partial_x b_t|^2 + |\partial_y b_t|^2
-    \rangle` over the pairs): where the kernels are alike (a steady pan) D is not below 0
-    (for w <= 1).
+    kernels differ most). How clearly the share is told apart is its depth, :math:`-D / G` at
+    the best share, with G the frames' gradient energy (the mean of
+    :math:`\langle |\partial_x b_t|^2 + |\partial_y b_t|^2 \rangle` over the pairs): where
+    the kernels are alike (a steady pan) D is not below 0 (for w <= 1).
 
     Parameters
     ----------
