@@ -1,5 +1,5 @@
 """``blurloc deblur-video``'s methods over long videos: is the gain the same at the end of a
-600-frame video as at its start, and how many frames per second on 2 cores?
+600-frame video as at its start?
 
     blurloc synth --out data/standin-long-clean --scenes chess fire heads --frames 600
         --seed 9 --shot-noise 0 --read-noise 0 --noise 0
@@ -18,15 +18,14 @@ test sequences are at least that long), scored against the sharp renders; and th
 order as one video: real camera blur and noise, no sharp truth), where the mean absolute change
 each method makes to the frames (0-255) is reported instead. Per video and method: PSNR gain
 (restored minus blurred, eq. 6, mean over frames) over the first 100 and the last 100 frames,
-their difference (the stability target: within 0.3 dB), the gain over the whole video, and
-frames per second (the whole video restored in one call, one process, 2 cores). Writes
+their difference (the stability target: within 0.3 dB) and the gain over the whole video
+(frames per second: ``benchmarks/bench_video_motion_speed.py``). Writes
 ``<out-dir>/video_deblur_long.md``/``.csv``.
 """
 
 from __future__ import annotations
 
 import argparse
-import time
 from pathlib import Path
 
 import numpy as np
@@ -73,13 +72,6 @@ def frame_psnrs(video: np.ndarray, sharp: np.ndarray) -> np.ndarray:
     return np.array([psnr(frame, truth) for frame, truth in zip(video, sharp, strict=True)])
 
 
-def timed(restore, video: np.ndarray) -> tuple[np.ndarray, float]:
-    """``restore(video)`` and the frames per second it took."""
-    start = time.perf_counter()
-    restored = restore(video)
-    return restored, len(video) / (time.perf_counter() - start)
-
-
 def main() -> None:
     """Restore every long video with every method; write the table."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -97,7 +89,7 @@ def main() -> None:
         for label, blurred, sharp in standin_videos(root, args.frames):
             before = frame_psnrs(blurred, sharp)
             for name, restore in restorers.items():
-                restored, fps = timed(restore, blurred)
+                restored = restore(blurred)
                 gains = frame_psnrs(restored, sharp) - before
                 first, last = gains[:END_FRAMES].mean(), gains[-END_FRAMES:].mean()
                 rows.append({"set": set_name, "video": label, "method": name,
@@ -106,28 +98,24 @@ def main() -> None:
                              "gain_last_100_db": round(float(last), 3),
                              "last_minus_first_db": round(float(last - first), 3),
                              "stable": bool(abs(last - first) <= STABLE_DB),
-                             "change_first_100": "", "change_last_100": "",
-                             "frames_per_s": round(fps, 1)})  # fmt: skip
+                             "change_first_100": "", "change_last_100": ""})  # fmt: skip
                 print(rows[-1], flush=True)
     recording = [path for folder in sorted(recording_root().glob("*/seq-*"))
                  for path in list_frames(folder)][: args.frames]  # fmt: skip
     frames = np.stack(list(read_frames(recording)))
     for name, restore in restorers.items():
-        restored, fps = timed(restore, frames)
+        restored = restore(frames)
         change = np.abs(restored.astype(float) - frames).mean(axis=(1, 2, 3))
         rows.append({"set": "real recording fr1_rpy (no truth)", "video": "seq-01 onwards",
                      "method": name, "frames": len(frames), "gain_db": "",
                      "gain_first_100_db": "", "gain_last_100_db": "", "last_minus_first_db": "",
                      "stable": "", "change_first_100": round(float(change[:END_FRAMES].mean()), 3),
-                     "change_last_100": round(float(change[-END_FRAMES:].mean()), 3),
-                     "frames_per_s": round(fps, 1)})  # fmt: skip
+                     "change_last_100": round(float(change[-END_FRAMES:].mean()), 3)})  # fmt: skip
         print(rows[-1], flush=True)
     notes = (f"First {args.frames} frames of every video; gains: restored minus blurred PSNR "
              f"(eq. 6), dB, mean over frames; stable: the last {END_FRAMES} frames' gain within "
              f"{STABLE_DB} dB of the first {END_FRAMES}'s; change: mean absolute change of the "
-             "real frames (0-255), which have no sharp truth; frames_per_s: the whole video in "
-             "one call, one process on a 2-core machine (the deconvolution restores 2 frames at "
-             "once on threads).")  # fmt: skip
+             "real frames (0-255), which have no sharp truth.")  # fmt: skip
     saved = save_benchmark_tables("video_deblur_long", {"videos": rows}, args.out_dir,
                                   notes=notes)  # fmt: skip
     print(f"tables: {saved}")
