@@ -13,8 +13,12 @@ conjugate-gradient steps, and with mirror boundaries, ``boundary``; ``off``: eve
 grid, unknown boundaries only) and with one kernel per frame (both boundaries), every one with
 THREADS frames restored at once (the shipped defaults also with one, ``threads``), and reports
 seconds per frame (measurement of the motion included, after one untimed call on two frames)
-and the time over the one-kernel, mirror-boundary run of the same video, in one process. Writes
-``<out-dir>/bench_video_motion_speed.md``/``.csv``. About 5 min on 2 cores.
+and the time over the one-kernel, mirror-boundary run of the same video, in one process. The
+``methods`` table times ``blurloc deblur-video``'s three methods with their defaults on the same
+videos: ``motion-network`` (:class:`~blurloc.inference.MotionNetworkRestorer`: the share read
+from the video, the deconvolution, then the network), ``motion`` (the deconvolution with the
+share read) and ``network`` (the shipped network alone). Writes
+``<out-dir>/bench_video_motion_speed.md``/``.csv`` (``-methods.csv``). About 6 min on 2 cores.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ import time
 import skimage.data
 
 from blurloc.experiments.photo_video import photo_video
+from blurloc.inference import DEFAULT_CHECKPOINT, MotionNetworkRestorer, VideoRestorer
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.video_wiener import AGREEMENT_L1, THREADS, deblur_video_motion
 
@@ -46,7 +51,10 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=20)
     add_out_dir_argument(parser)
     args = parser.parse_args()
-    rows = []
+    rows, method_rows = [], []
+    methods = {"motion-network": MotionNetworkRestorer(),
+               "motion": lambda video: deblur_video_motion(video, None),
+               "network": VideoRestorer(DEFAULT_CHECKPOINT)}  # fmt: skip
     for (size, step), (motion, roll) in itertools.product(SIZES, MOTIONS):
         blurred, _ = photo_video(skimage.data.coffee(), frames=args.frames, step_px=step,
                                  angle_deg=20.0, size=size, noise_sigma=0.0, seed=1,
@@ -68,12 +76,24 @@ def main() -> None:
                          "frames_per_second": round(1.0 / value, 2),
                          "times_reference": round(value / seconds[REFERENCE], 1)})  # fmt: skip
             print(rows[-1], flush=True)
+        methods["network"](blurred[:2])  # loads the network: untimed
+        for name, method in methods.items():
+            start = time.perf_counter()
+            method(blurred)
+            value = (time.perf_counter() - start) / len(blurred)
+            ratio = value / seconds[REFERENCE]
+            method_rows.append({"size": f"{size[0]}x{size[1]}", "motion": motion,
+                                "method": name, "seconds_per_frame": round(value, 3),
+                                "frames_per_second": round(1.0 / value, 2),
+                                "times_reference": round(ratio, 1)})  # fmt: skip
+            print(method_rows[-1], flush=True)
     notes = (f"{args.frames} frames per video; seconds per frame include measuring the motion "
              "between frames; agreement: the largest disagreement of a frame's grid kernels at "
              "which it is restored with one kernel (off: by its grid); threads: frames restored "
              "at once; times_reference: over grid 1 with mirror boundaries on the same "
              "video.")  # fmt: skip
-    saved = save_benchmark_tables("bench_video_motion_speed", {"speed": rows}, args.out_dir,
+    saved = save_benchmark_tables("bench_video_motion_speed",
+                                  {"speed": rows, "methods": method_rows}, args.out_dir,
                                   notes=notes)  # fmt: skip
     print(f"tables: {saved}")
 
