@@ -51,7 +51,7 @@ from blurloc.data import list_scenes, load_split
 from blurloc.experiments.photo_video import photo_training_videos, photo_video_set
 from blurloc.inference import DEFAULT_CHECKPOINT, VideoRestorer
 from blurloc.intervals import paired_interval
-from blurloc.metrics import psnr
+from blurloc.metrics import mean_frame_psnr
 from blurloc.models.video_deblur import VideoDeblurConfig
 from blurloc.tables import add_out_dir_argument, save_benchmark_tables
 from blurloc.train.config import VideoTrainConfig
@@ -138,8 +138,7 @@ def test_sets(args: argparse.Namespace) -> dict[str, list[tuple[str, Video]]]:
 
 def gain(output: np.ndarray, blurred: np.ndarray, sharp: np.ndarray) -> float:
     """Mean per-frame PSNR of ``output`` minus that of ``blurred`` (dB)."""
-    pairs = zip(output, blurred, sharp, strict=True)
-    return float(np.mean([psnr(s, o, 255.0) - psnr(s, b, 255.0) for o, b, s in pairs]))
+    return mean_frame_psnr([(output, sharp)]) - mean_frame_psnr([(blurred, sharp)])
 
 
 def main() -> None:
