@@ -74,6 +74,8 @@ def test_devices_are_checked() -> None:
         (["train-video-deblur", "--device", "gpu0"], "--device"),
         (["train-video-deblur", "--validation-per-scene", "-1"], "--validation-per-scene"),
         (["train-video-deblur", "--photo-videos", "-1"], "--photo-videos"),
+        (["train-video-deblur", "--photo-noise", "-0.1"], "--photo-noise"),
+        (["train-video-deblur", "--workers", "0"], "--workers"),
     ],
 )
 def test_bad_training_options_exit_1_naming_the_option(

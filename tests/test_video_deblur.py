@@ -45,7 +45,12 @@ from blurloc.models.video_deblur import (
 from blurloc.stored import VIDEO_SWITCHES_ADDED
 from blurloc.train.config import VideoTrainConfig
 from blurloc.train.loop import validation_cut
-from blurloc.train.video import load_video_splits, train_video_deblur
+from blurloc.train.video import (
+    load_video_splits,
+    train_video_deblur,
+    with_motion_deconvolution,
+)
+from blurloc.video_wiener import deblur_video_motion
 
 SINGLE_FRAME = VideoDeblurConfig(aux_state=False, blending=False, recurrent=False)
 
@@ -436,6 +441,33 @@ def test_add_photo_videos_appends_to_training_and_validation() -> None:
     assert not np.array_equal(mixed["validation"][1][0], mixed["train"][3][0])  # other videos
     with pytest.raises(ValueError, match="count"):
         add_photo_videos(splits, -1)
+    both = add_photo_videos(splits, 2, frames=2, noise_sigmas=(0.01, 0.0))
+    assert [len(both[name]) for name in ("train", "validation")] == [7, 3]
+    assert np.array_equal(both["train"][3][0], mixed["train"][3][0])  # the first set as before
+    clean = photo_training_videos(2, frames=2, seed=2, noise_sigma=0.0)
+    assert all(np.array_equal(a[0], b[0]) for a, b in zip(both["train"][5:], clean, strict=True))
+    for wrong in ((), (-0.01,)):
+        with pytest.raises(ValueError, match="noise_sigmas"):
+            add_photo_videos(splits, 1, noise_sigmas=wrong)
+
+
+def test_training_videos_deconvolved_by_their_motion_as_the_restorer_sees_them() -> None:
+    """with_motion_deconvolution gives each video's deconvolution (share read from it), what
+    MotionNetworkRestorer feeds the network, and keeps the other parts; two processes give
+    the same frames as one."""
+    videos = [(*photo_video(skimage.data.coffee(), frames=4, step_px=step, angle_deg=angle),
+               np.zeros((4, 3), np.float32))
+              for step, angle in ((2.0, 20.0), (1.5, 100.0))]  # fmt: skip
+    deconvolved = with_motion_deconvolution(videos)
+    assert [len(video) for video in deconvolved] == [3, 3]
+    for (blurred, sharp, extra), (restored, kept_sharp, kept_extra) in zip(
+        videos, deconvolved, strict=True
+    ):
+        np.testing.assert_array_equal(restored, deblur_video_motion(blurred, None))
+        assert kept_sharp is sharp and kept_extra is extra
+        assert mean_frame_psnr([(restored, sharp)]) > mean_frame_psnr([(blurred, sharp)])
+    for one, two in zip(deconvolved, with_motion_deconvolution(videos, workers=2), strict=True):
+        np.testing.assert_array_equal(one[0], two[0])
 
 
 def test_photo_video_gains_score_every_photo_and_speed_against_the_input() -> None:

@@ -27,7 +27,12 @@ from blurloc.cli import main
 from blurloc.deconv import wiener_deconvolve
 from blurloc.experiments.photo_video import photo_video, photo_video_motion
 from blurloc.images import linear_to_srgb, srgb_to_linear
-from blurloc.inference import DEFAULT_CHECKPOINT, MotionNetworkRestorer, VideoRestorer
+from blurloc.inference import (
+    DEFAULT_CHECKPOINT,
+    MOTION_CHECKPOINT,
+    MotionNetworkRestorer,
+    VideoRestorer,
+)
 from blurloc.metrics import mean_frame_psnr
 from blurloc.video_wiener import (
     AGREEMENT_L1,
@@ -276,7 +281,7 @@ def test_deblur_video_cli_restores_a_folder_by_the_videos_motion(
     assert mean_frame_psnr([(restored("default"), sharp)]) > mean_frame_psnr([(blurred, sharp)])
     assert main(["deblur-video", str(folder), str(tmp_path / "chain"), "--grid", "1",
                  "--exposure-share", "1"]) == 0  # fmt: skip
-    np.testing.assert_array_equal(restored("chain"), VideoRestorer(DEFAULT_CHECKPOINT)(
+    np.testing.assert_array_equal(restored("chain"), VideoRestorer(MOTION_CHECKPOINT)(
         deblur_video_motion(blurred, 1.0, grid=1)))  # fmt: skip
     capsys.readouterr()
     for wrong, message in (

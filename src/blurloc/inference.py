@@ -32,9 +32,12 @@ from .train.config import PoseTrainConfig
 from .train.datasets import FrameCache, PoseSequenceDataset
 from .video_wiener import BOUNDARY, LOCAL_GRID, deblur_video_motion
 
-#: The trained video network shipped with the package (docs/cli.md, "Command line", gives the
-#: command that makes it).
+#: The trained video network shipped with the package, the paper's: it restores blurred frames
+#: (docs/cli.md, "Command line", gives the command that makes it).
 DEFAULT_CHECKPOINT = Path(__file__).with_name("weights") / "video_deblur.pt"
+#: The same network trained on frames deconvolved by their video's own motion, shipped for
+#: :class:`MotionNetworkRestorer` (``train-video-deblur --input motion``, docs/cli.md).
+MOTION_CHECKPOINT = Path(__file__).with_name("weights") / "motion_network.pt"
 #: Pixels restored at once by :func:`restore_frames` (bounds its memory for large frames).
 CHUNK_PIXELS = 2**22
 
@@ -121,7 +124,8 @@ class MotionNetworkRestorer:
     Parameters
     ----------
     checkpoint : str or os.PathLike
-        A ``video-deblur`` checkpoint (default :data:`DEFAULT_CHECKPOINT`).
+        A ``video-deblur`` checkpoint (default :data:`MOTION_CHECKPOINT`, trained on deconvolved
+        frames; :data:`DEFAULT_CHECKPOINT`, trained on blurred ones, also runs).
     device : str
         Where the network runs.
     exposure_share : float or None
@@ -141,7 +145,7 @@ class MotionNetworkRestorer:
     (4, 120, 160, 3)
     """
 
-    checkpoint: str | os.PathLike = DEFAULT_CHECKPOINT
+    checkpoint: str | os.PathLike = MOTION_CHECKPOINT
     device: str = "cpu"
     exposure_share: float | None = None
     grid: int = LOCAL_GRID

@@ -91,6 +91,8 @@ EXPECTED_OUTPUTS: dict[str, tuple[str, ...]] = {
         "video_ablation_intervals.pdf",
         "video_ablation_health.md",
         "video_ablation_health.csv",
+        "video_motion_network_control.md",
+        "video_motion_network_control.csv",
         "fig04_video_deblurring.png",
         "fig04_video_deblurring.pdf",
         "video_attention.png",

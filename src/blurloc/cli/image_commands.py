@@ -144,7 +144,11 @@ def _train_video_deblur(args: argparse.Namespace) -> int:
     from ..experiments.photo_video import add_photo_videos
     from ..train.config import VideoTrainConfig
     from ..train.loop import choose_device
-    from ..train.video import load_video_splits, train_video_deblur
+    from ..train.video import (
+        load_video_splits,
+        train_video_deblur,
+        with_motion_deconvolution,
+    )
 
     config = VideoTrainConfig(seed=args.seed, device=args.device)
     config = replace(
@@ -156,19 +160,27 @@ def _train_video_deblur(args: argparse.Namespace) -> int:
         },
     )
     choose_device(config.device)  # a bad --device is named before the frames are read
-    check_output(args.out, args.data, names=())
+    for root in args.data:
+        check_output(args.out, root, names=())
     if args.validation_per_scene < 0:
         raise ValueError(f"--validation-per-scene must be >= 0 (0: all), got "
                          f"{args.validation_per_scene}")  # fmt: skip
     if args.photo_videos < 0:
         raise ValueError(f"--photo-videos must be >= 0, got {args.photo_videos}")
-    splits = load_video_splits(
-        args.data,
-        args.scenes,
-        with_test=False,
-        validation_per_scene=args.validation_per_scene or None,
-    )
-    splits = add_photo_videos(splits, args.photo_videos)
+    if any(sigma < 0 for sigma in args.photo_noise):
+        raise ValueError(f"--photo-noise must be >= 0, got {args.photo_noise}")
+    if args.workers < 1:
+        raise ValueError(f"--workers must be >= 1, got {args.workers}")
+    splits = {"train": [], "validation": []}
+    for root in args.data:
+        for name, videos in load_video_splits(root, args.scenes, with_test=False,
+                                              validation_per_scene=args.validation_per_scene
+                                              or None).items():  # fmt: skip
+            splits[name] = splits.get(name, []) + videos
+    splits = add_photo_videos(splits, args.photo_videos, noise_sigmas=tuple(args.photo_noise))
+    if args.input == "motion":
+        splits = {name: with_motion_deconvolution(videos, args.workers, not args.quiet)
+                  for name, videos in splits.items()}  # fmt: skip
     with warnings_to_stderr():
         history = train_video_deblur(splits, args.out, config, progress=not args.quiet,
                                      restart=args.restart)  # fmt: skip
@@ -185,6 +197,7 @@ def _deblur_video(args: argparse.Namespace) -> int:
     from ..files import image_header, write_image_file
     from ..inference import (
         DEFAULT_CHECKPOINT,
+        MOTION_CHECKPOINT,
         MotionNetworkRestorer,
         load_video_deblur,
         restore_frames,
@@ -203,7 +216,8 @@ def _deblur_video(args: argparse.Namespace) -> int:
         raise ValueError(f"--exposure-share must be > 0, got {args.exposure_share}")
     if args.grid is not None and args.grid < 1:
         raise ValueError(f"--grid must be >= 1, got {args.grid}")
-    checkpoint = args.checkpoint or DEFAULT_CHECKPOINT
+    shipped = MOTION_CHECKPOINT if args.method == "motion-network" else DEFAULT_CHECKPOINT
+    checkpoint = args.checkpoint or shipped
     # a damaged checkpoint stops before any frame is read
     model = None if args.method == "motion" else load_video_deblur(checkpoint)
     paths = list_frames(args.input)
@@ -265,7 +279,20 @@ def add_train_video_deblur_parser(commands: argparse._SubParsersAction) -> None:
     train = commands.add_parser(
         "train-video-deblur", help="train the recurrent deblurring network on a stand-in root"
     )
-    train.add_argument("--data", required=True, help="stand-in root (needs sharp frames)")
+    train.add_argument(
+        "--data",
+        required=True,
+        nargs="+",
+        help="stand-in roots (they need sharp frames), their sequences pooled",
+    )
+    train.add_argument(
+        "--input",
+        choices=("blurred", "motion"),
+        default="blurred",
+        help="what the network learns to restore: blurred (default) frames, as the paper's "
+        "network; or motion: every video first deconvolved by its own motion (the exposure "
+        "share read from it), as deblur-video's default method feeds the network",
+    )
     train.add_argument("--out", required=True, help="folder for best.pt, last.pt, history.json")
     train.add_argument("--scenes", nargs="+", help="scenes to train on (default: all)")
     train.add_argument("--steps", type=int, help="optimiser steps (default 1200)")
@@ -283,8 +310,14 @@ def add_train_video_deblur_parser(commands: argparse._SubParsersAction) -> None:
         type=int,
         default=0,
         help="add that many GoPro-style videos made from photographs to the training videos "
-        "(half as many to the validation; default 0)",
+        "per --photo-noise value (half as many to the validation; default 0)",
     )
+    train.add_argument("--photo-noise", type=float, nargs="+", default=[0.01],
+                       help="sensor noise of the photo videos, one set per value (default "
+                            "0.01; 0: none)")  # fmt: skip
+    train.add_argument("--workers", type=int, default=2,
+                       help="processes that deconvolve videos at once with --input motion "
+                            "(default 2)")  # fmt: skip
     add_training_options(train)
     train.set_defaults(handler=_train_video_deblur)
 
@@ -319,6 +352,9 @@ def add_deblur_video_parser(commands: argparse._SubParsersAction) -> None:
                        help="with the motion methods: the image beyond the frame solved for as "
                             "unknown (default), or a mirror of the frame (several times "
                             "faster, rings at the border where the camera pans)")  # fmt: skip
-    video.add_argument("--checkpoint", help="network checkpoint (default: the shipped one)")
+    video.add_argument("--checkpoint",
+                       help="network checkpoint (default: the shipped one of the method: trained "
+                            "on deconvolved frames for motion-network, on blurred frames for "
+                            "network)")  # fmt: skip
     video.add_argument("--overwrite", action="store_true", help=OVERWRITE_HELP)
     video.set_defaults(handler=_deblur_video)

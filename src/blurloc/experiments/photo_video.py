@@ -415,15 +415,16 @@ def add_photo_videos(
     splits: dict[str, list[tuple[np.ndarray, np.ndarray]]],
     count: int,
     frames: int = PHOTO_TRAINING_FRAMES,
+    noise_sigmas: tuple[float, ...] = (0.01,),
 ) -> dict[str, list[tuple[np.ndarray, np.ndarray]]]:
     """Training and validation videos with photo training videos appended.
 
-    ``count`` videos of :func:`photo_training_videos` (seed 0) join the training videos and
-    half as many (at least one; seed 1: other crops and motions of the same photographs) the
-    validation videos. The trainer draws every training video equally often, so ``count`` sets
-    the share of clips cut from photographs: 14 beside the default stand-in's 28 training
-    sequences make a third. Every call adds the same videos (fixed seeds), whatever the
-    training seed.
+    For each of ``noise_sigmas`` (index i), ``count`` videos of :func:`photo_training_videos`
+    (seed 2i) with that noise join the training videos and half as many (at least one; seed
+    2i + 1: other crops and motions of the same photographs) the validation videos. The trainer
+    draws every training video equally often, so ``count`` sets the share of clips cut from
+    photographs: 14 beside the default stand-in's 28 training sequences make a third. Every
+    call adds the same videos (fixed seeds), whatever the training seed.
 
     Parameters
     ----------
@@ -431,9 +432,11 @@ def add_photo_videos(
         ``train`` and ``validation`` lists of (blurred, sharp) uint8 videos, as
         :func:`blurloc.train.video.load_video_splits` gives them.
     count : int
-        Photo videos to add for training (0: ``splits`` unchanged).
+        Photo videos to add for training per noise level (0: ``splits`` unchanged).
     frames : int
         Frames per photo video.
+    noise_sigmas : tuple of float
+        Sensor noise of the videos, one set of videos per value (0: none).
 
     Returns
     -------
@@ -444,15 +447,17 @@ def add_photo_videos(
     Raises
     ------
     ValueError
-        If ``count`` is negative.
+        If ``count`` is negative, ``noise_sigmas`` is empty or holds a negative value.
     """
     if count < 0:
         raise ValueError(f"count must be >= 0, got {count}")
+    if not noise_sigmas or min(noise_sigmas) < 0:
+        raise ValueError(f"noise_sigmas must be one or more values >= 0, got {noise_sigmas}")
     if count == 0:
         return splits
-    return {
-        **splits,
-        "train": splits["train"] + photo_training_videos(count, frames, seed=0),
-        "validation": splits["validation"]
-        + photo_training_videos(max(1, count // 2), frames, seed=1),
-    }
+    train, validation = list(splits["train"]), list(splits["validation"])
+    for index, sigma in enumerate(noise_sigmas):
+        train += photo_training_videos(count, frames, seed=2 * index, noise_sigma=sigma)
+        validation += photo_training_videos(max(1, count // 2), frames, seed=2 * index + 1,
+                                            noise_sigma=sigma)  # fmt: skip
+    return {**splits, "train": train, "validation": validation}

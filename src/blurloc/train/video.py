@@ -5,7 +5,9 @@ training sequences; random crops, flips and time reversal; Charbonnier loss
 sqrt((L_t - S_t)^2 + eps^2) against the sharp frame; Adam with a cosine learning rate. The end
 of every training sequence (:func:`~blurloc.train.loop.validation_cut`) is held out for
 validation. A network with ``wiener_input`` reads Wiener copies of the training frames, and one
-with ``blur_condition`` their blind blur descriptors, both computed once on whole frames.
+with ``blur_condition`` their blind blur descriptors, both computed once on whole frames. A
+network for :class:`~blurloc.inference.MotionNetworkRestorer` trains on the training videos
+deconvolved by their own motion (:func:`with_motion_deconvolution`).
 """
 
 from __future__ import annotations
@@ -31,10 +33,12 @@ from ..models.video_deblur import (
     blur_descriptors,
     network_guides,
 )
+from ..video_wiener import deblur_video_motion
 from .config import VideoTrainConfig
 from .loop import (
     choose_device,
     fixed_threads,
+    parallel_map,
     resume_state,
     validation_cut,
     write_history,
@@ -207,6 +211,40 @@ def with_blur_descriptors(videos: list[tuple[np.ndarray, ...]]) -> list[tuple[np
     return [video if any(part.ndim == 2 for part in video)
             else (*video, blur_descriptors(to_tensor(video[0])[None])[0].numpy())
             for video in videos]  # fmt: skip
+
+
+def with_motion_deconvolution(
+    videos: list[tuple[np.ndarray, ...]], workers: int = 1, progress: bool = False
+) -> list[tuple[np.ndarray, ...]]:
+    """Training videos with every blurred video replaced by its deconvolution by its own motion,
+    as :class:`~blurloc.inference.MotionNetworkRestorer` feeds the network: each frame by the
+    kernels of the path its image took during the exposure, the exposure share read from the
+    video (:func:`~blurloc.video_wiener.deblur_video_motion` with ``exposure_share=None``), each
+    video as a whole.
+
+    Parameters
+    ----------
+    videos : list of (blurred, sharp, ...)
+        uint8 (T, H, W, 3) pairs (T >= 2), possibly with more parts.
+    workers : int
+        Processes that deconvolve videos at once (each with one PyTorch thread).
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    list of (deconvolved, sharp, ...)
+        The first part of every video replaced, the others kept.
+    """
+    restored = parallel_map(_deconvolve_by_motion, [video[0] for video in videos], workers)
+    return [(frames, *video[1:]) for frames, video in
+            zip(tqdm(restored, total=len(videos), disable=not progress, desc="deconvolve"),
+                videos, strict=True)]  # fmt: skip
+
+
+def _deconvolve_by_motion(blurred: np.ndarray) -> np.ndarray:
+    """One video of :func:`with_motion_deconvolution`."""
+    return deblur_video_motion(blurred, None)
 
 
 def validation_psnr(model: VideoDeblurNet, sequences: list[Video], device: torch.device) -> float:
