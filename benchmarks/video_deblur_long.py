@@ -8,7 +8,8 @@
 
 Methods: ``motion-network`` (the command's default, :class:`~blurloc.inference.
 MotionNetworkRestorer`: each frame deconvolved by its own motion in the video, the exposure share
-read from the video, then the recurrent network), ``network`` (the shipped network alone,
+read from the video, then the recurrent network trained on deconvolved frames), ``network`` (the
+paper's network alone, trained on blurred frames,
 :class:`~blurloc.inference.VideoRestorer`) and ``motion`` (the deconvolution alone,
 :func:`~blurloc.video_wiener.deblur_video_motion` with the share read). Videos: the first
 ``--frames`` frames of the first test sequence of every scene of ``--standin`` (as rendered,

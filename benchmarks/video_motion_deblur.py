@@ -32,9 +32,10 @@ on the stand-in, with its camera's own exposure share (the render's blur strengt
 in frame intervals: a camera setting, not the blur of any frame; the photo videos' own share,
 9 sub-frames over 9 steps of the pan, is 1.0, the chosen one), ``blind_per_frame``
 (:func:`blurloc.deconv.deblur_blind`, gated, as shipped), ``network`` (the shipped video
-checkpoint) and that network run over the frames that ``video_motion`` with the share read per
-video restored (:class:`~blurloc.inference.MotionNetworkRestorer`, the default of ``blurloc
-deblur-video``). Per set: the mean gain over videos (PSNR of the restored video minus the
+checkpoint of the paper's network, trained on blurred frames) and the method's own network
+(trained on deconvolved frames, :data:`~blurloc.inference.MOTION_CHECKPOINT`) run over the frames
+that ``video_motion`` with the share read per video restored
+(:class:`~blurloc.inference.MotionNetworkRestorer`, the default of ``blurloc deblur-video``). Per set: the mean gain over videos (PSNR of the restored video minus the
 blurred one's, eq. 6, mean over frames), the worst video, the videos above 0 dB, and
 ``video_motion`` minus each other method paired by video with a 95 % t-interval; the
 ``-pairs`` table pairs the network after ``video_motion`` with the network alone and with
@@ -80,8 +81,9 @@ TURNING_SETS = (("turning 0.1 deg", 0.1, 0.0), ("turning 0.3 deg", 0.3, 0.0),
                 ("moving forward 0.3 %", 0.0, 0.003))  # fmt: skip
 
 
-#: The recurrent network run over the frames deconvolved by their motion (share read per video):
-#: :class:`~blurloc.inference.MotionNetworkRestorer`, ``blurloc deblur-video``'s default.
+#: The method's network (trained on deconvolved frames) run over the frames deconvolved by their
+#: motion (share read per video): :class:`~blurloc.inference.MotionNetworkRestorer`, ``blurloc
+#: deblur-video``'s default.
 NETWORK_AFTER = "network after video_motion, calibrated share"
 #: Further paired comparisons (first minus second, per video) in the ``-pairs`` table.
 PAIRS = ((NETWORK_AFTER, "network"), (NETWORK_AFTER, "video_motion, calibrated share"),
