@@ -35,8 +35,9 @@ in frame intervals: a camera setting, not the blur of any frame; the photo video
 checkpoint of the paper's network, trained on blurred frames) and the method's own network
 (trained on deconvolved frames, :data:`~blurloc.inference.MOTION_CHECKPOINT`) run over the frames
 that ``video_motion`` with the share read per video restored
-(:class:`~blurloc.inference.MotionNetworkRestorer`, the default of ``blurloc deblur-video``). Per set: the mean gain over videos (PSNR of the restored video minus the
-blurred one's, eq. 6, mean over frames), the worst video, the videos above 0 dB, and
+(:class:`~blurloc.inference.MotionNetworkRestorer`, the default of ``blurloc deblur-video``).
+Per set: the mean gain over videos (PSNR of the restored video minus the blurred one's, eq. 6,
+mean over frames), the worst video, the videos above 0 dB, and
 ``video_motion`` minus each other method paired by video with a 95 % t-interval; the
 ``-pairs`` table pairs the network after ``video_motion`` with the network alone and with
 ``video_motion`` (PAIRS). Writes ``<out-dir>/video_motion_deblur.md``/``.csv``
