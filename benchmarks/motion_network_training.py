@@ -6,10 +6,10 @@
         [--train-frames 40] [--photo-videos 14] [--test-frames 50] [--workers 2]
         [--out build/motion_network] [--out-dir figures]
 
-:class:`~blurloc.inference.MotionNetworkRestorer` (``blurloc deblur-video``'s default) runs the
-shipped network, which learnt to restore blurred frames, over frames that the deconvolution
-(:func:`~blurloc.video_wiener.deblur_video_motion`, the share read from each video) has
-already restored. Here the same network (eq. 8-11, the shipped settings,
+The paper's shipped network (:data:`~blurloc.inference.DEFAULT_CHECKPOINT`) learnt to restore
+blurred frames; run over frames that the deconvolution
+(:func:`~blurloc.video_wiener.deblur_video_motion`, the share read from each video) has already
+restored, it sees inputs it never learnt. Here the same network (eq. 8-11, the shipped settings,
 :class:`~blurloc.models.video_deblur.VideoDeblurConfig`) is trained, once per ``--seeds``, for
 ``--steps`` steps on what it then sees: deconvolved frames, against the sharp ones, so its
 residual reconstruction (eq. 11) starts from the deconvolution (a Wiener step before a learnt
@@ -26,15 +26,16 @@ against the sharp renders, and the 15 test photo videos (8 frames; photographs n
 without noise and with sigma = 0.01.
 
 Arms, each scored on the same videos: ``motion alone`` (the deconvolution), ``shipped after
-motion`` (:class:`~blurloc.inference.MotionNetworkRestorer` as shipped), ``retrained after
-motion`` (the network trained here, one per seed) and ``shipped alone`` (the network on the
-blurred frames). A video's gain: its mean per-frame PSNR (eq. 6) minus its blurred frames'. Per
-arm and test set: the mean gain over videos (seed by seed for the retrained arm: mean, min and
-max over seeds), the worst video; paired rows: ``retrained after motion`` minus each other arm,
-per seed (a t-interval over the seeds' mean gains) and per video (seeds averaged; a t-interval
-over the videos). Writes ``<out-dir>/motion_network_training.md``/``.csv`` (``-pairs.csv``;
-``-videos.csv``: each video's gain per arm, seeds averaged). Finished trainings in ``--out`` are
-reused.
+motion`` (the paper's shipped network over the deconvolved frames), ``retrained after motion`` (the
+network trained here, one per seed; the method's own shipped checkpoint,
+:data:`~blurloc.inference.MOTION_CHECKPOINT`, is this recipe at the full budget) and ``shipped
+alone`` (the network on the blurred frames). A video's gain: its mean per-frame PSNR (eq. 6) minus
+its blurred frames'. Per arm and test set: the mean gain over videos (seed by seed for the
+retrained arm: mean, min and max over seeds), the worst video; paired rows: ``retrained after
+motion`` minus each other arm, per seed (a t-interval over the seeds' mean gains) and per video
+(seeds averaged; a t-interval over the videos). Writes
+``<out-dir>/motion_network_training.md``/``.csv`` (``-pairs.csv``; ``-videos.csv``: each video's
+gain per arm, seeds averaged). Finished trainings in ``--out`` are reused.
 """
 
 from __future__ import annotations

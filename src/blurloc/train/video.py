@@ -16,6 +16,7 @@ import os
 import time
 import warnings
 from dataclasses import replace
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -236,15 +237,11 @@ def with_motion_deconvolution(
     list of (deconvolved, sharp, ...)
         The first part of every video replaced, the others kept.
     """
-    restored = parallel_map(_deconvolve_by_motion, [video[0] for video in videos], workers)
+    deconvolve = partial(deblur_video_motion, exposure_share=None)  # picklable for the workers
+    restored = parallel_map(deconvolve, [video[0] for video in videos], workers)
     return [(frames, *video[1:]) for frames, video in
             zip(tqdm(restored, total=len(videos), disable=not progress, desc="deconvolve"),
                 videos, strict=True)]  # fmt: skip
-
-
-def _deconvolve_by_motion(blurred: np.ndarray) -> np.ndarray:
-    """One video of :func:`with_motion_deconvolution`."""
-    return deblur_video_motion(blurred, None)
 
 
 def validation_psnr(model: VideoDeblurNet, sequences: list[Video], device: torch.device) -> float:
