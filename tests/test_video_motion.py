@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 import skimage.data
 
-from blurloc.blur import estimate_noise_sigma, trajectory_kernel
+from blurloc.blur import blur_image, estimate_noise_sigma, trajectory_kernel
 from blurloc.blur.video_motion import (
     MAX_CORRECTED_SHARE,
+    _centred_spectrum,
     calibrate_exposure_share,
     exposure_paths,
     fit_exposure_share,
@@ -174,6 +175,21 @@ def test_the_exposure_share_is_read_from_frames_whose_blur_changes(share: float)
         calibrate_exposure_share(blurred, np.zeros((3, 2)))
     with pytest.raises(ValueError, match="alike_weight"):
         fit_exposure_share(blurred, frame_shifts(blurred), alike_weight=-1.0)
+
+
+def test_the_calibrations_spectral_blur_is_the_blur_of_eq_1_away_from_the_border() -> None:
+    """The exposure share's comparison blurs frames by products of spectra (circular
+    convolution): away from the border, by more than the kernel, it equals
+    :func:`~blurloc.blur.blur_image` for a kernel that is neither normalised nor symmetric,
+    so the share it reads is the one direct convolution would give."""
+    image = np.random.default_rng(3).random((48, 64))
+    kernel = np.zeros((5, 9))
+    kernel[1, :7], kernel[3, 8] = 1.0, 4.0
+    spectrum, total = _centred_spectrum(kernel, image.shape)
+    circular = np.fft.irfft2(np.fft.rfft2(image) * spectrum / total, s=image.shape)
+    inside = np.s_[9:-9, 9:-9]
+    np.testing.assert_allclose(circular[inside], blur_image(image, kernel)[inside], atol=1e-12)
+    assert np.abs(circular - blur_image(image, kernel)).max() > 1e-3  # the border does differ
 
 
 def test_a_long_steady_pan_does_not_hide_where_the_blur_changes() -> None:

@@ -27,7 +27,7 @@ from scipy.linalg import solve_banded
 from scipy.ndimage import fourier_shift
 
 from ..images import as_float_image, srgb_to_linear
-from .kernels import blur_image, centred_on_one_grid, trajectory_kernel
+from .kernels import trajectory_kernel
 from .spectrum import to_gray
 
 #: Points per exposure path (:func:`exposure_paths`).
@@ -513,11 +513,12 @@ def fit_exposure_share(
     linear = {frame: to_gray(srgb_to_linear(as_float_image(frames[frame]))).astype(np.float32)
               for frame in sorted(set(pairs) | set(pairs + 1))}  # fmt: skip
     height, width = linear[pairs[0]].shape
-    moved = {}  # each pair's frames moved half-way towards each other by the measured shift
+    moved = {}  # spectra of each pair's frames moved half-way towards each other by the shift
     for pair in pairs:
         half = shifts[pair][::-1] / 2  # (rows, columns)
-        moved[pair] = [np.fft.irfft2(fourier_shift(np.fft.rfft2(linear[frame]), sign * half,
-                                                   n=width), s=(height, width))
+        moved[pair] = [np.fft.rfft2(np.fft.irfft2(fourier_shift(np.fft.rfft2(linear[frame]),
+                                                                sign * half, n=width),
+                                                  s=(height, width)).astype(np.float64))
                        for frame, sign in ((pair, 1), (pair + 1, -1))]  # fmt: skip
     gradient_energy = np.mean([sum(np.mean(np.diff(linear[pair], axis=axis) ** 2)
                                    for axis in (0, 1)) for pair in pairs])  # fmt: skip
@@ -526,16 +527,27 @@ def fit_exposure_share(
         paths = exposure_paths(mid_exposure_shifts(shifts, share), share)
         kernels = {frame: trajectory_kernel(paths[frame], origin=paths[frame].mean(axis=0))
                    for frame in sorted(set(pairs) | set(pairs + 1))}  # fmt: skip
+        if 2 * max(max(kernel.shape) for kernel in kernels.values()) >= min(height, width):
+            return np.inf  # paths as long as the frame: nothing left to compare
+        spectra = {frame: _centred_spectrum(kernel, (height, width))
+                   for frame, kernel in kernels.items()}  # fmt: skip
         total = 0.0
         for pair in pairs:
-            first, second = centred_on_one_grid([kernels[pair], kernels[pair + 1]])
-            margin = max(first.shape) + int(np.ceil(np.abs(shifts[pair]).max() / 2)) + 2
+            size = max(max(kernels[pair].shape), max(kernels[pair + 1].shape))
+            margin = size + int(np.ceil(np.abs(shifts[pair]).max() / 2)) + 2
             if 2 * margin >= min(height, width):
-                return np.inf  # paths as long as the frame: nothing left to compare
+                return np.inf
+            (first, first_sum), (second, second_sum) = spectra[pair], spectra[pair + 1]
             earlier, later = moved[pair]
             inside = np.s_[margin:-margin, margin:-margin]
-            crossed = blur_image(earlier, second) - blur_image(later, first)
-            alike = blur_image(earlier - later, (first + second) / 2)
+            # products of spectra: circular convolutions, equal to the blur of eq. 1 inside the
+            # margin (wider than any kernel), where no pixel reads beyond the frame
+            crossed = np.fft.irfft2(
+                earlier * (second / second_sum) - later * (first / first_sum), s=(height, width)
+            )
+            alike = np.fft.irfft2(
+                (earlier - later) * ((first + second) / (first_sum + second_sum)), s=(height, width)
+            )
             total += np.mean(crossed[inside] ** 2) - alike_weight * np.mean(alike[inside] ** 2)
         return total / len(pairs)
 
@@ -549,6 +561,17 @@ def fit_exposure_share(
     }
     share, least = min({**coarse, **fine}.items(), key=lambda item: item[1])
     return ExposureFit(share=float(share), depth=float(-least / gradient_energy))
+
+
+def _centred_spectrum(kernel: np.ndarray, shape: tuple[int, int]) -> tuple[np.ndarray, float]:
+    """The 2-D real DFT of ``kernel`` (odd sides) zero-padded to ``shape`` with its centre pixel
+    at the origin, and the kernel's sum: a product with an image's spectrum, divided by the sum,
+    convolves the image with the normalised kernel circularly (:func:`~blurloc.blur.blur_image`
+    away from the border)."""
+    padded = np.zeros(shape)
+    padded[: kernel.shape[0], : kernel.shape[1]] = kernel
+    padded = np.roll(padded, (-(kernel.shape[0] // 2), -(kernel.shape[1] // 2)), axis=(0, 1))
+    return np.fft.rfft2(padded), float(kernel.sum())
 
 
 @dataclass(frozen=True)
