@@ -98,7 +98,8 @@ def main() -> None:
                                 "frames_per_second": round(1.0 / value, 2),
                                 "times_reference": round(ratio, 1),
                                 "share_reading_s": round(share_seconds, 2) if reads_share else "",
-                                "frames_per_second_once_read": round(1.0 / after_share, 2),
+                                "frames_per_second_once_read":
+                                    round(1.0 / after_share, 2) if after_share > 0 else "",
                                 })  # fmt: skip
             print(method_rows[-1], flush=True)
     notes = (f"{args.frames} frames per video; seconds per frame include measuring the motion "

@@ -10,9 +10,11 @@ own motion with the exposure share read from the video,
 :func:`~blurloc.blur.video_motion.calibrate_exposure_share`, DEFAULT_EXPOSURE_SHARE where the
 reading does not tell the shares apart; then the method's network) and the same restorer told
 the render's exposure in frame intervals (its ``blur_strength``, a camera setting) restore the
-first ``--frames`` frames of every test sequence of ``--standin`` (as rendered, with the camera
-model's noise) and of ``--clean-standin`` (a render without noise, ``blurloc synth --out
-data/standin-clean-s8 --frames 60 --seed 8 --shot-noise 0 --read-noise 0 --noise 0``). Per set:
+first ``--frames`` frames (each cut; a cut longer than every sequence of a root is left out; a
+shorter sequence gives all its frames) of every test sequence of ``--standin`` (as rendered,
+with the camera model's noise) and of ``--clean-standin`` (a render without noise, ``blurloc
+synth --out data/standin-clean-s8 --frames 60 --seed 8 --shot-noise 0 --read-noise 0 --noise
+0``). Per set and cut:
 the videos whose share was read (and its median), the mean PSNR gain of each arm over the
 blurred input (eq. 6, mean over frames), and told minus read paired by video with a 95 %
 t-interval, over all videos, over those whose share was read and over those that fell back to
@@ -43,6 +45,12 @@ def interval_text(differences: list[float]) -> str:
         return f"{differences[0]:+.3f} (one video)" if differences else "no videos"
     interval = paired_interval(np.array(differences), method="t")
     return f"{interval.mean:+.3f} [{interval.low:+.3f}, {interval.high:+.3f}]"
+
+
+def _frame_range(rows: list[dict]) -> str:
+    """The frames per video of a set's rows: one count, or the least and the most."""
+    counts = sorted({row["frames"] for row in rows})
+    return str(counts[0]) if len(counts) == 1 else f"{counts[0]}-{counts[-1]}"
 
 
 def main() -> None:
@@ -89,7 +97,7 @@ def main() -> None:
                                                 for r in rows if r["share_read"] == ""]  # fmt: skip
             shares = [r["share_read"] for r in rows if r["share_read"] != ""]
             summary.append({
-                "set": name, "frames": min(frames, longest), "videos": len(rows),
+                "set": name, "frames": _frame_range(rows), "videos": len(rows),
                 "camera_share": camera_share, "shares_read": len(shares),
                 "median_share_read": round(float(np.median(shares)), 2) if shares else "",
                 "gain_read_db": round(float(np.mean([r["gain_read_db"] for r in rows])), 3),

@@ -26,7 +26,7 @@ of the frames (0-255) are reported beside it. These are proxies, not a restorati
 blind estimator was fitted on the stand-in and on blurred photographs, not on deconvolved frames
 (ringing or amplified noise can read as shorter or longer blur), and the variance of the
 Laplacian rises with amplified noise as well as with sharpness. Writes
-``<out-dir>/video_real_blur.md``/``.csv``. About 3 min on 2 cores.
+``<out-dir>/video_real_blur.md``/``.csv``. About 1 min on 2 cores.
 """
 
 from __future__ import annotations

@@ -190,6 +190,10 @@ def test_the_calibrations_spectral_blur_is_the_blur_of_eq_1_away_from_the_border
     inside = np.s_[9:-9, 9:-9]
     np.testing.assert_allclose(circular[inside], blur_image(image, kernel)[inside], atol=1e-12)
     assert np.abs(circular - blur_image(image, kernel)).max() > 1e-3  # the border does differ
+    with pytest.raises(ValueError, match="odd"):
+        _centred_spectrum(np.ones((4, 5)), image.shape)
+    with pytest.raises(ValueError, match="smaller than the frame"):
+        _centred_spectrum(np.ones((49, 5)), image.shape)
 
 
 def test_a_long_steady_pan_does_not_hide_where_the_blur_changes() -> None:

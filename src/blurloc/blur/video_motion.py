@@ -513,7 +513,9 @@ def fit_exposure_share(
     linear = {frame: to_gray(srgb_to_linear(as_float_image(frames[frame]))).astype(np.float32)
               for frame in sorted(set(pairs) | set(pairs + 1))}  # fmt: skip
     height, width = linear[pairs[0]].shape
-    moved = {}  # spectra of each pair's frames moved half-way towards each other by the shift
+    # spectra of each pair's frames moved half-way towards each other by the shift, taken from
+    # the moved frames themselves (real images), as the direct convolution saw them
+    moved = {}
     for pair in pairs:
         half = shifts[pair][::-1] / 2  # (rows, columns)
         moved[pair] = [np.fft.rfft2(np.fft.irfft2(fourier_shift(np.fft.rfft2(linear[frame]),
@@ -536,7 +538,7 @@ def fit_exposure_share(
             size = max(max(kernels[pair].shape), max(kernels[pair + 1].shape))
             margin = size + int(np.ceil(np.abs(shifts[pair]).max() / 2)) + 2
             if 2 * margin >= min(height, width):
-                return np.inf
+                return np.inf  # the kernels and the move leave no pixel to compare
             (first, first_sum), (second, second_sum) = spectra[pair], spectra[pair + 1]
             earlier, later = moved[pair]
             inside = np.s_[margin:-margin, margin:-margin]
@@ -567,7 +569,18 @@ def _centred_spectrum(kernel: np.ndarray, shape: tuple[int, int]) -> tuple[np.nd
     """The 2-D real DFT of ``kernel`` (odd sides) zero-padded to ``shape`` with its centre pixel
     at the origin, and the kernel's sum: a product with an image's spectrum, divided by the sum,
     convolves the image with the normalised kernel circularly (:func:`~blurloc.blur.blur_image`
-    away from the border)."""
+    away from the border).
+
+    Raises
+    ------
+    ValueError
+        If a side of ``kernel`` is even (its centre pixel would be ambiguous) or not smaller than
+        ``shape``'s.
+    """
+    if kernel.shape[0] % 2 == 0 or kernel.shape[1] % 2 == 0:
+        raise ValueError(f"kernel sides must be odd, got {kernel.shape}")
+    if kernel.shape[0] >= shape[0] or kernel.shape[1] >= shape[1]:
+        raise ValueError(f"kernel {kernel.shape} must be smaller than the frame {shape}")
     padded = np.zeros(shape)
     padded[: kernel.shape[0], : kernel.shape[1]] = kernel
     padded = np.roll(padded, (-(kernel.shape[0] // 2), -(kernel.shape[1] // 2)), axis=(0, 1))
