@@ -34,13 +34,13 @@ from __future__ import annotations
 import argparse
 import time
 
-import cv2
 import numpy as np
 
 from blurloc.experiments.real_frames import (
     blur_measures,
     motion_agreement,
     posed_frames_with_motion,
+    resized_frames,
     spearman_difference,
 )
 from blurloc.inference import DEFAULT_CHECKPOINT, MotionNetworkRestorer, VideoRestorer
@@ -70,9 +70,7 @@ def main() -> None:
     faster = motion > np.median(motion)
     rows = []
     for scale in SCALES:
-        size_px = (images.shape[2] // scale, images.shape[1] // scale)
-        video = np.stack([cv2.resize(image, size_px, interpolation=cv2.INTER_AREA)
-                          for image in images])  # fmt: skip
+        video = np.stack(resized_frames(images, scale))
         size = f"{video.shape[2]}x{video.shape[1]}"
         recorded = None
         for name, method in methods().items():

@@ -9,10 +9,9 @@ import numpy as np
 import pytest
 import skimage.data
 
-from blurloc.blur import blur_image, estimate_noise_sigma, trajectory_kernel
+from blurloc.blur import blur_image, estimate_noise_sigma, kernel_to_otf, trajectory_kernel
 from blurloc.blur.video_motion import (
     MAX_CORRECTED_SHARE,
-    _centred_spectrum,
     calibrate_exposure_share,
     exposure_paths,
     fit_exposure_share,
@@ -179,21 +178,20 @@ def test_the_exposure_share_is_read_from_frames_whose_blur_changes(share: float)
 
 def test_the_calibrations_spectral_blur_is_the_blur_of_eq_1_away_from_the_border() -> None:
     """The exposure share's comparison blurs frames by products of spectra (circular
-    convolution): away from the border, by more than the kernel, it equals
-    :func:`~blurloc.blur.blur_image` for a kernel that is neither normalised nor symmetric,
-    so the share it reads is the one direct convolution would give."""
+    convolution, :func:`~blurloc.blur.kernel_to_otf` in double precision): away from the border,
+    by more than the kernel, it equals :func:`~blurloc.blur.blur_image` for a kernel that is
+    neither normalised nor symmetric, so the share it reads is the one direct convolution would
+    give. A kernel larger than the frame is refused."""
     image = np.random.default_rng(3).random((48, 64))
     kernel = np.zeros((5, 9))
     kernel[1, :7], kernel[3, 8] = 1.0, 4.0
-    spectrum, total = _centred_spectrum(kernel, image.shape)
-    circular = np.fft.irfft2(np.fft.rfft2(image) * spectrum / total, s=image.shape)
+    spectrum = kernel_to_otf(kernel, image.shape, np.float64)
+    circular = np.fft.irfft2(np.fft.rfft2(image) * spectrum / kernel.sum(), s=image.shape)
     inside = np.s_[9:-9, 9:-9]
     np.testing.assert_allclose(circular[inside], blur_image(image, kernel)[inside], atol=1e-12)
     assert np.abs(circular - blur_image(image, kernel)).max() > 1e-3  # the border does differ
-    with pytest.raises(ValueError, match="odd"):
-        _centred_spectrum(np.ones((4, 5)), image.shape)
-    with pytest.raises(ValueError, match="smaller than the frame"):
-        _centred_spectrum(np.ones((49, 5)), image.shape)
+    with pytest.raises(ValueError, match="larger than the transform"):
+        kernel_to_otf(np.ones((49, 5)), image.shape)
 
 
 def test_a_long_steady_pan_does_not_hide_where_the_blur_changes() -> None:

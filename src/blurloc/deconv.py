@@ -23,6 +23,7 @@ from .blur import (
     check_kernel,
     estimate_motion_blur,
     estimate_noise_sigma,
+    kernel_to_otf,
 )
 from .images import check_image
 
@@ -86,41 +87,6 @@ GATE_REFERENCE_NOISE = 0.01
 GATE_NOISE_EXPONENT = 0.25
 GATE_MAX_LENGTH = 20.0
 GATE_MAX_AGREEMENT = 1.1
-
-
-def kernel_to_otf(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
-    r"""Optical transfer function of a kernel: its DFT on a grid of ``shape``, centred at (0, 0).
-
-    The kernel is zero-padded to ``shape`` and rolled so that its centre pixel
-    ``(rows // 2, cols // 2)`` lies at the origin, so that filtering by it does not shift the
-    image (MATLAB's ``psf2otf``):
-
-    .. math::
-
-        C(u, v) = \sum_{m, n} c(m, n)\, e^{-2\pi i (u m / M + v n / N)}
-
-    Parameters
-    ----------
-    kernel : numpy.ndarray
-        (h, w) point spread function c of eq. 1, no larger than ``shape``.
-    shape : tuple of int
-        (M, N) size of the transform.
-
-    Returns
-    -------
-    numpy.ndarray
-        (M, N // 2 + 1) complex: the ``rfft2`` half of C, the F{c} of eq. 2-4.
-
-    References
-    ----------
-    Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Sections 5.7-5.8
-    (inverse and minimum mean square error filtering).
-    """
-    padded = np.zeros(shape, np.float32)
-    rows = (np.arange(kernel.shape[0]) - kernel.shape[0] // 2) % shape[0]
-    columns = (np.arange(kernel.shape[1]) - kernel.shape[1] // 2) % shape[1]
-    padded[np.ix_(rows, columns)] = kernel
-    return scipy.fft.rfft2(padded)
 
 
 def estimate_nsr(image: np.ndarray) -> float:

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 import cv2
 import numpy as np
+import scipy.fft
 
 from ..images import as_float_image
 
@@ -276,6 +277,55 @@ def check_kernel(kernel: np.ndarray, image_shape: tuple[int, ...] | None = None)
     ):
         raise ValueError(f"kernel {kernel.shape} is larger than the image {image_shape[:2]}")
     return kernel / total
+
+
+def kernel_to_otf(
+    kernel: np.ndarray, shape: tuple[int, int], dtype: type = np.float32
+) -> np.ndarray:
+    r"""Optical transfer function of a kernel: its DFT on a grid of ``shape``, centred at (0, 0).
+
+    The kernel is zero-padded to ``shape`` and rolled so that its centre pixel
+    ``(rows // 2, cols // 2)`` lies at the origin, so that filtering by it does not shift the
+    image (MATLAB's ``psf2otf``): a product with an image's ``rfft2`` convolves the image with the
+    kernel circularly, which is :func:`blur_image` wherever the kernel does not reach across the
+    border.
+
+    .. math::
+
+        C(u, v) = \sum_{m, n} c(m, n)\, e^{-2\pi i (u m / M + v n / N)}
+
+    Parameters
+    ----------
+    kernel : numpy.ndarray
+        (h, w) point spread function c of eq. 1, smaller than ``shape`` (not normalised here).
+    shape : tuple of int
+        (M, N) size of the transform.
+    dtype : type
+        Precision of the padded kernel (float32, the deconvolution's; float64 for comparisons
+        that must match a float64 convolution).
+
+    Returns
+    -------
+    numpy.ndarray
+        (M, N // 2 + 1) complex: the ``rfft2`` half of C, the F{c} of eq. 2-4.
+
+    Raises
+    ------
+    ValueError
+        If the kernel is larger than ``shape`` along either axis.
+
+    References
+    ----------
+    Gonzalez and Woods, *Digital Image Processing*, 4th ed., Pearson, 2018, Sections 5.7-5.8
+    (inverse and minimum mean square error filtering).
+    """
+    if kernel.shape[0] > shape[0] or kernel.shape[1] > shape[1]:
+        raise ValueError(f"kernel {kernel.shape} is larger than the transform {tuple(shape)}")
+    padded = np.zeros(shape, dtype)
+    rows = (np.arange(kernel.shape[0]) - kernel.shape[0] // 2) % shape[0]
+    columns = (np.arange(kernel.shape[1]) - kernel.shape[1] // 2) % shape[1]
+    padded[np.ix_(rows, columns)] = kernel
+    return scipy.fft.rfft2(padded)
 
 
 def blur_image(

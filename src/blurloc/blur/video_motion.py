@@ -27,7 +27,7 @@ from scipy.linalg import solve_banded
 from scipy.ndimage import fourier_shift
 
 from ..images import as_float_image, srgb_to_linear
-from .kernels import trajectory_kernel
+from .kernels import kernel_to_otf, trajectory_kernel
 from .spectrum import to_gray
 
 #: Points per exposure path (:func:`exposure_paths`).
@@ -531,7 +531,7 @@ def fit_exposure_share(
                    for frame in sorted(set(pairs) | set(pairs + 1))}  # fmt: skip
         if 2 * max(max(kernel.shape) for kernel in kernels.values()) >= min(height, width):
             return np.inf  # paths as long as the frame: nothing left to compare
-        spectra = {frame: _centred_spectrum(kernel, (height, width))
+        spectra = {frame: (kernel_to_otf(kernel, (height, width), np.float64), kernel.sum())
                    for frame, kernel in kernels.items()}  # fmt: skip
         total = 0.0
         for pair in pairs:
@@ -563,28 +563,6 @@ def fit_exposure_share(
     }
     share, least = min({**coarse, **fine}.items(), key=lambda item: item[1])
     return ExposureFit(share=float(share), depth=float(-least / gradient_energy))
-
-
-def _centred_spectrum(kernel: np.ndarray, shape: tuple[int, int]) -> tuple[np.ndarray, float]:
-    """The 2-D real DFT of ``kernel`` (odd sides) zero-padded to ``shape`` with its centre pixel
-    at the origin, and the kernel's sum: a product with an image's spectrum, divided by the sum,
-    convolves the image with the normalised kernel circularly (:func:`~blurloc.blur.blur_image`
-    away from the border).
-
-    Raises
-    ------
-    ValueError
-        If a side of ``kernel`` is even (its centre pixel would be ambiguous) or not smaller than
-        ``shape``'s.
-    """
-    if kernel.shape[0] % 2 == 0 or kernel.shape[1] % 2 == 0:
-        raise ValueError(f"kernel sides must be odd, got {kernel.shape}")
-    if kernel.shape[0] >= shape[0] or kernel.shape[1] >= shape[1]:
-        raise ValueError(f"kernel {kernel.shape} must be smaller than the frame {shape}")
-    padded = np.zeros(shape)
-    padded[: kernel.shape[0], : kernel.shape[1]] = kernel
-    padded = np.roll(padded, (-(kernel.shape[0] // 2), -(kernel.shape[1] // 2)), axis=(0, 1))
-    return np.fft.rfft2(padded), float(kernel.sum())
 
 
 @dataclass(frozen=True)

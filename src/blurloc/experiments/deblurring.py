@@ -11,7 +11,7 @@ import numpy as np
 from skimage.restoration import richardson_lucy, unsupervised_wiener, wiener
 from tqdm.auto import tqdm
 
-from ..blur import blur_image
+from ..blur import blur_image, kernel_to_otf
 from ..data.samples import split_frames
 from ..data.sevenscenes import read_image
 from ..deconv import (
@@ -20,7 +20,6 @@ from ..deconv import (
     deblur_blind,
     estimate_nsr,
     inverse_filter,
-    kernel_to_otf,
     wiener_deconvolve,
 )
 from ..images import as_float_image

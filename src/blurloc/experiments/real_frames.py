@@ -108,7 +108,7 @@ def blur_measures(images: np.ndarray, scale: int = 1) -> dict[str, np.ndarray]:
         ``{"blind length (px)", "detector score (px)", "negated variance of the Laplacian"}``,
         each (N,), in px of the measured size where a length.
     """
-    frames = _resized(images, scale)
+    frames = resized_frames(images, scale)
     measure: dict[str, Callable[[np.ndarray], float]] = {
         "blind length (px)": lambda frame: estimate_motion_blur(frame).length_px,
         "detector score (px)": lambda frame: detect_blur(frame)[1],
@@ -118,8 +118,21 @@ def blur_measures(images: np.ndarray, scale: int = 1) -> dict[str, np.ndarray]:
             for name, function in measure.items()}  # fmt: skip
 
 
-def _resized(images: np.ndarray, scale: int) -> list[np.ndarray]:
-    """Each frame area-averaged by ``scale`` (1: as it is)."""
+def resized_frames(images: np.ndarray, scale: int) -> list[np.ndarray]:
+    """Each frame area-averaged by ``scale`` (1: as it is).
+
+    Parameters
+    ----------
+    images : numpy.ndarray
+        (N, H, W[, 3]) frames.
+    scale : int
+        Integer factor by which each side shrinks (2: 640x480 to 320x240).
+
+    Returns
+    -------
+    list of numpy.ndarray
+        The frames, resized with ``cv2.INTER_AREA``.
+    """
     return [cv2.resize(image, None, fx=1 / scale, fy=1 / scale, interpolation=cv2.INTER_AREA)
             if scale > 1 else image for image in images]  # fmt: skip
 
@@ -141,7 +154,7 @@ def video_motion_lengths(images: np.ndarray, scale: int = 1) -> np.ndarray:
     numpy.ndarray
         (N,) path lengths, px.
     """
-    return video_motion_kernels(np.stack(_resized(images, scale))).lengths_px
+    return video_motion_kernels(np.stack(resized_frames(images, scale))).lengths_px
 
 
 def motion_agreement(measures: dict[str, np.ndarray], motion_px: np.ndarray) -> list[dict]:
